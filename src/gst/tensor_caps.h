@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// other/tensors and other/tensor caps <-> nns::TensorsConfig. The only place that knows the caps
+// field names (format, num_tensors, dimensions, types, framerate; dimension, type for the
+// legacy single-tensor caps).
+#pragma once
+
+#include <gst/gst.h>
+
+#include "core/tensor_info.h"
+
+namespace nns::gst {
+
+// Pad-template caps strings.
+#define NNS_TENSOR_CAPS_ANY_STR                                                       \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                                 \
+  "other/tensors, format = (string) { static, flexible }, framerate = (fraction) [ 0, max ]"
+#define NNS_TENSOR_CAPS_ALL_FORMATS_STR                               \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                 \
+  "other/tensors, format = (string) { static, flexible, sparse }, " \
+  "framerate = (fraction) [ 0, max ]"
+
+bool is_tensor_structure(const GstStructure *s);
+bool is_tensor_caps(const GstCaps *caps);  // every structure is other/tensor(s)
+
+// Reads whatever fields are fixed; unfixed/missing fields stay unset (empty tensors,
+// rate -1). Throws nns::Error(kNegotiation) on malformed dimension/type strings or when
+// num_tensors disagrees with the lists.
+TensorsConfig config_from_structure(const GstStructure *s);
+// First structure of `caps`; throws if caps are empty or not tensor caps.
+TensorsConfig config_from_caps(const GstCaps *caps);
+
+// Fixed caps for a complete config. A single static tensor also gets a second, legacy
+// other/tensor structure so peers that only accept other/tensor still link.
+// If `dim_variants`, dimension strings are given as lists of equivalent spellings
+// (trailing ":1" added or dropped) so a capsfilter written either way intersects.
+GstCaps *caps_from_config(const TensorsConfig &config, bool dim_variants = false);
+GstStructure *structure_from_config(const TensorsConfig &config);
+
+// Caps describing `format` with the given rate (or any rate if rate_n < 0).
+GstCaps *caps_for_format(TensorFormat format, int rate_n = -1, int rate_d = -1);
+
+// Equivalent spellings of one dimension string: minimal rank up to max(rank, 4).
+std::vector<std::string> dim_spellings(const Dims &d);
+
+// Human-readable caps for error messages.
+std::string caps_to_string(const GstCaps *caps);
+
+}  // namespace nns::gst

@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+#include "support/harness.h"
+
+#include <fstream>
+#include <iterator>
+
+namespace nns::test {
+
+RunResult run_pipeline(GstElement *pipeline, double timeout_s) {
+  RunResult r;
+  GstBus *bus = gst_element_get_bus(pipeline);
+  GstStateChangeReturn sret = gst_element_set_state(pipeline, GST_STATE_PLAYING);
+  (void)sret;  // failures arrive as bus errors
+  GstClockTime deadline = static_cast<GstClockTime>(timeout_s * GST_SECOND);
+  GstMessage *msg = gst_bus_timed_pop_filtered(
+      bus, deadline, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  if (!msg) {
+    r.timed_out = true;
+  } else if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS) {
+    r.eos = true;
+  } else {
+    GError *err = nullptr;
+    gchar *dbg = nullptr;
+    gst_message_parse_error(msg, &err, &dbg);
+    r.error = true;
+    r.error_domain = err->domain;
+    r.error_code = err->code;
+    r.error_text = std::string(err->message) + " | " + (dbg ? dbg : "");
+    r.error_source = GST_MESSAGE_SRC_NAME(msg) ? GST_MESSAGE_SRC_NAME(msg) : "";
+    g_error_free(err);
+    g_free(dbg);
+  }
+  if (msg) gst_message_unref(msg);
+  gst_element_set_state(pipeline, GST_STATE_NULL);
+  gst_object_unref(bus);
+  return r;
+}
+
+RunResult run_pipeline(const std::string &description, double timeout_s) {
+  GError *err = nullptr;
+  GstElement *p = gst_parse_launch(description.c_str(), &err);
+  if (!p || err) {
+    RunResult r;
+    r.error = true;
+    r.error_text = std::string("parse error: ") + (err ? err->message : "unknown");
+    if (err) g_error_free(err);
+    if (p) gst_object_unref(p);
+    return r;
+  }
+  RunResult r = run_pipeline(p, timeout_s);
+  gst_object_unref(p);
+  return r;
+}
+
+std::vector<uint8_t> read_file(const std::string &path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::vector<uint8_t>((std::istreambuf_iterator<char>(f)),
+                              std::istreambuf_iterator<char>());
+}
+
+std::string shared_models_dir() {
+  namespace fs = std::filesystem;
+  if (const char *env = std::getenv("NNS_SHARED_DIR")) {
+    fs::path p = fs::path(env) / "models" / "upstream";
+    return fs::exists(p) ? fs::absolute(p).string() : std::string();
+  }
+  fs::path p = fs::path(NNS_SOURCE_DIR) / ".." / "shared" / "models" / "upstream";
+  return fs::exists(p) ? fs::canonical(p).string() : std::string();
+}
+
+std::string make_temp_dir() {
+  char tmpl[] = "/tmp/nns-test-XXXXXX";
+  char *d = mkdtemp(tmpl);
+  return d ? std::string(d) : std::string("/tmp");
+}
+
+}  // namespace nns::test
