@@ -1,0 +1,127 @@
+/* SPDX-License-Identifier: LGPL-2.1-only */
+/*
+ * The C ABI between tensor_filter (and the single-shot API) and inference back ends.
+ *
+ * A back end is a shared object named libnnstreamer_filter_<name>.so, found in the folders of
+ * nnstreamer.ini's [filter] filters= key, NNSTREAMER_FILTERS, or built in. It exports
+ *
+ *   const nns_filter_backend_i *nns_filter_backend_entry(void);
+ *
+ * which returns a static table. The loader rejects a table whose api_version differs from
+ * NNS_FILTER_BACKEND_API_VERSION with a message naming both versions. Every function returns 0
+ * on success or a negative errno value, and on failure writes a message into err (errlen bytes,
+ * always NUL-terminated) that names the cause; the host posts it on the GStreamer bus together
+ * with the model path.
+ *
+ * Back ends written in C++ can derive from nns::FilterBackend (nns_filter_backend.hh) instead
+ * of filling this table by hand.
+ */
+#ifndef NNSTREAMER_CPP_FILTER_BACKEND_H_
+#define NNSTREAMER_CPP_FILTER_BACKEND_H_
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "tensor_typedef.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define NNS_FILTER_BACKEND_API_VERSION 1u
+#define NNS_FILTER_BACKEND_ENTRY "nns_filter_backend_entry"
+#define NNS_TENSOR_NAME_MAX 256
+
+/* One tensor: name (may be empty), element type (tensor_type numbering) and dims. */
+typedef struct {
+  char name[NNS_TENSOR_NAME_MAX];
+  uint32_t type;                        /* tensor_type */
+  uint32_t dims[NNS_TENSOR_RANK_LIMIT]; /* innermost first, 0 after the rank */
+} nns_tensor_desc;
+
+/* A set of tensors. num_tensors == 0 means "not known". */
+typedef struct {
+  uint32_t num_tensors;
+  uint32_t format; /* tensor_format */
+  nns_tensor_desc tensors[NNS_TENSOR_SIZE_LIMIT];
+} nns_tensors_desc;
+
+/* What the element's properties say. Pointers are valid during the call only. */
+typedef struct {
+  const char *framework;          /* the framework= name the user asked for */
+  const char *const *model_files; /* model= split on ',' */
+  uint32_t num_models;
+  const nns_tensors_desc *input;  /* from input=/inputtype=/inputname=, or num_tensors 0 */
+  const nns_tensors_desc *output; /* from output=/outputtype=/outputname=, or num_tensors 0 */
+  const char *custom;             /* custom= "key:value,key:value" or NULL */
+  const char *accelerator;        /* accelerator= or NULL */
+  const tensor_layout *input_layout;  /* NNS_TENSOR_SIZE_LIMIT entries */
+  const tensor_layout *output_layout; /* NNS_TENSOR_SIZE_LIMIT entries */
+  int invoke_dynamic;             /* invoke-dynamic=true */
+  int num_threads;                /* 0: back end default */
+} nns_filter_props;
+
+/* Event codes for handle_event. */
+typedef enum {
+  NNS_FILTER_EVENT_SUSPEND = 1, /* idle for suspend= ms: may free heavy resources */
+  NNS_FILTER_EVENT_RESUME = 2,
+} nns_filter_event;
+
+enum {
+  NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE = 1u << 0, /* invoke sets out[i].data itself */
+  NNS_FILTER_FLAG_THREAD_SAFE = 1u << 1,        /* invoke may run concurrently */
+  NNS_FILTER_FLAG_RUN_WITHOUT_MODEL = 1u << 2,  /* model= is a name, not a file */
+  NNS_FILTER_FLAG_DYNAMIC = 1u << 3,            /* supports invoke_dynamic */
+};
+
+typedef struct nns_filter_backend_i {
+  uint32_t api_version; /* NNS_FILTER_BACKEND_API_VERSION */
+  const char *name;     /* framework name, e.g. "onnxruntime" */
+  uint32_t flags;       /* NNS_FILTER_FLAG_* */
+  /* Model file extensions this back end reads (".onnx"), NULL-terminated; may be NULL. */
+  const char *const *extensions;
+
+  /* Opens the model(s); *priv receives the instance. Mandatory. */
+  int (*open)(const nns_filter_props *props, void **priv, char *err, size_t errlen);
+  /* Releases everything open() made. Mandatory. */
+  void (*close)(void *priv);
+
+  /* Fills the model's input/output tensors when the model knows them; -ENOTSUP otherwise. */
+  int (*get_model_info)(void *priv, nns_tensors_desc *in, nns_tensors_desc *out, char *err,
+                        size_t errlen);
+  /* Tells the back end the input it will get; fills the output that results. -ENOTSUP if the
+   * back end cannot change its input. May be NULL. */
+  int (*set_input_info)(void *priv, const nns_tensors_desc *in, nns_tensors_desc *out,
+                        char *err, size_t errlen);
+
+  /* Runs the model. in[i].data/size are the negotiated input tensors. Unless
+   * NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE, out[i] are caller-allocated buffers of the output
+   * sizes; otherwise the back end sets out[i].data/size and the host returns them through
+   * free_output. Mandatory. */
+  int (*invoke)(void *priv, const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out,
+                uint32_t num_out, char *err, size_t errlen);
+  /* For NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE back ends. May be NULL. */
+  void (*free_output)(void *priv, void *data);
+
+  /* invoke-dynamic: the input shapes may change per call; the back end fills out_info and
+   * allocates out[i] (released through free_output). May be NULL. */
+  int (*invoke_dynamic)(void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
+                        nns_tensors_desc *out_info, GstTensorMemory *out, char *err,
+                        size_t errlen);
+
+  /* Reloads the model from props->model_files (is-updatable). May be NULL. */
+  int (*reload)(void *priv, const nns_filter_props *props, char *err, size_t errlen);
+  /* Suspend/resume and future events; -ENOTSUP when unhandled. May be NULL. */
+  int (*handle_event)(void *priv, nns_filter_event event, char *err, size_t errlen);
+  /* Whether an accelerator ("cpu", "gpu", "npu", ...) is usable. May be NULL (cpu only). */
+  int (*check_accelerator)(const char *accl);
+} nns_filter_backend_i;
+
+/* Exported by every back-end .so. */
+typedef const nns_filter_backend_i *(*nns_filter_backend_entry_fn)(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NNSTREAMER_CPP_FILTER_BACKEND_H_ */
