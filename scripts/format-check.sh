@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-only
 # Checks C/C++ formatting against .clang-format (clang-format --dry-run --Werror).
-# usage: scripts/format-check.sh [--fix] [--quiet] [files...]   (default: every tracked source in
+# usage: scripts/format-check.sh [--fix] [--quiet (counts only)] [files...]   (default: every tracked source in
 #        src/ include/ tests/ bench/ backends/ examples/ tools/)
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -38,9 +38,11 @@ for f in "${files[@]}"; do
   "$CF" --dry-run --Werror --style=file "$f" >/dev/null 2>&1 || bad+=("$f")
 done
 if ((${#bad[@]})); then
-  echo "format-check: ${#bad[@]} of ${#files[@]} files need clang-format:" >&2
-  printf '  %s\n' "${bad[@]}" >&2
-  ((quiet)) || echo "  fix with: scripts/format-check.sh --fix ${bad[*]}" >&2
+  echo "format-check: ${#bad[@]} of ${#files[@]} files need clang-format" >&2
+  if ((!quiet)); then
+    printf '  %s\n' "${bad[@]}" >&2
+    echo "  fix with: scripts/format-check.sh --fix ${bad[*]}" >&2
+  fi
   exit 1
 fi
 ((quiet)) || echo "format-check: ${#files[@]} files OK"

@@ -238,7 +238,9 @@ build() {
   local cfg=(-S "$ROOT" -B "$BUILD_DIR")
   [[ -f $BUILD_DIR/CMakeCache.txt ]] || cfg+=(-DCMAKE_BUILD_TYPE="$BUILD_TYPE")
   cmake "${cfg[@]}" >>"$log" 2>&1 || fail "cmake configure" "see the CMake errors below" "$log"
-  grep -E '^-- .*(skip|not found|missing|disabled)' -i "$log" | sed 's/^/[setup]    /' || true
+  # Optional parts that will not be built (back ends without their dependency, ...).
+  grep -iE '^-- .*(not built|skipping|not found)' "$log" |
+    grep -vE 'Check for working|Looking for|Performing Test|Detecting' | sed 's/^/[setup]    /' || true
   local blog=$LOG_DIR/build.log
   local b0
   b0=$(date +%s)
