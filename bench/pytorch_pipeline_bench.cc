@@ -40,7 +40,9 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-int argmax(const uint8_t *s) { return static_cast<int>(std::max_element(s, s + 10) - s); }
+int argmax(const uint8_t *s) {
+  return static_cast<int>(std::max_element(s, s + 10) - s);
+}
 
 // libtorch alone.
 double run_torch(torch::jit::Module &m, int n) {
@@ -97,8 +99,8 @@ double run_pipeline(int n) {
   std::string desc =
       "appsrc name=src is-live=false block=true format=time max-bytes=40000 "
       "caps=other/tensors,format=static,num_tensors=1,dimensions=1:28:28:1,types=uint8,"
-      "framerate=0/1 ! tensor_filter framework=pytorch model=" + g_model +
-      " input=1:28:28:1 inputtype=uint8 output=10:1 outputtype=uint8 custom=NumThreads:" +
+      "framerate=0/1 ! tensor_filter framework=pytorch model=" +
+      g_model + " input=1:28:28:1 inputtype=uint8 output=10:1 outputtype=uint8 custom=NumThreads:" +
       std::to_string(g_threads) + " ! fakesink name=sink sync=false signal-handoffs=true";
   GError *err = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &err);

@@ -24,8 +24,8 @@ const BackendLib &lib() {
   return l;
 }
 
-#define REQUIRE_BACKEND()                                                  \
-  do {                                                                     \
+#define REQUIRE_BACKEND()                                                 \
+  do {                                                                    \
     if (!lib().ok()) GTEST_SKIP() << "armnn back end: " << lib().error(); \
   } while (0)
 

@@ -159,8 +159,8 @@ class Instance {
   int invoke_dynamic(const nns_tensors_desc &in_info, const std::vector<GstTensorMemory> &in,
                      nns_tensors_desc &out_info, std::vector<GstTensorMemory> &out) {
     out.assign(NNS_TENSOR_SIZE_LIMIT, GstTensorMemory{});
-    int rc = api_->invoke_dynamic(priv_, &in_info, in.data(), &out_info, out.data(), err_,
-                                  sizeof(err_));
+    int rc =
+        api_->invoke_dynamic(priv_, &in_info, in.data(), &out_info, out.data(), err_, sizeof(err_));
     if (rc == 0) out.resize(out_info.num_tensors);
     return rc;
   }

@@ -27,8 +27,8 @@ const BackendLib &lib() {
   return l;
 }
 
-#define REQUIRE_BACKEND()                                               \
-  do {                                                                  \
+#define REQUIRE_BACKEND()                                                   \
+  do {                                                                      \
     if (!lib().ok()) GTEST_SKIP() << "pytorch back end: " << lib().error(); \
   } while (0)
 
@@ -41,8 +41,8 @@ std::string shared_model(const char *name) {
 }
 
 nns_pytorch_stats stats_of(const Instance &inst) {
-  auto fn = reinterpret_cast<nns_filter_pytorch_get_stats_fn>(
-      lib().sym(NNS_FILTER_PYTORCH_GET_STATS));
+  auto fn =
+      reinterpret_cast<nns_filter_pytorch_get_stats_fn>(lib().sym(NNS_FILTER_PYTORCH_GET_STATS));
   nns_pytorch_stats s{};
   EXPECT_NE(fn, nullptr);
   if (fn) {
@@ -259,8 +259,9 @@ TEST(PytorchBackend, UnsignedWideTypesRejected) {
     p.input = tensors_desc({d, d});
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -EINVAL);
-    EXPECT_NE(inst.error().find(type == _NNS_UINT16 ? "uint16" : type == _NNS_UINT32 ? "uint32"
-                                                                                    : "uint64"),
+    EXPECT_NE(inst.error().find(type == _NNS_UINT16   ? "uint16"
+                                : type == _NNS_UINT32 ? "uint32"
+                                                      : "uint64"),
               std::string::npos)
         << inst.error();
     EXPECT_NE(inst.error().find("does not support"), std::string::npos) << inst.error();

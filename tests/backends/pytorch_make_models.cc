@@ -41,7 +41,8 @@ def forward(self, x):
     save(dir, "param_out", R"(
 def forward(self, x):
     return self.w
-)", &w);
+)",
+         &w);
     // Two outputs sharing one tensor.
     save(dir, "dup_out", R"(
 def forward(self, x):

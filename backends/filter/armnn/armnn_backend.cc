@@ -35,19 +35,29 @@ using backend::desc_to_string;
 
 constexpr const char *kName = "armnn";
 
-std::string prefix() { return std::string(kName) + ": "; }
+std::string prefix() {
+  return std::string(kName) + ": ";
+}
 
 uint32_t from_armnn(armnn::DataType t) {
   switch (t) {
-    case armnn::DataType::Float32: return _NNS_FLOAT32;
-    case armnn::DataType::Float16: return _NNS_FLOAT16;
-    case armnn::DataType::QAsymmU8: return _NNS_UINT8;
+    case armnn::DataType::Float32:
+      return _NNS_FLOAT32;
+    case armnn::DataType::Float16:
+      return _NNS_FLOAT16;
+    case armnn::DataType::QAsymmU8:
+      return _NNS_UINT8;
     case armnn::DataType::QAsymmS8:
-    case armnn::DataType::QSymmS8: return _NNS_INT8;
-    case armnn::DataType::QSymmS16: return _NNS_INT16;
-    case armnn::DataType::Signed32: return _NNS_INT32;
-    case armnn::DataType::Boolean: return _NNS_UINT8;
-    default: return _NNS_END;
+    case armnn::DataType::QSymmS8:
+      return _NNS_INT8;
+    case armnn::DataType::QSymmS16:
+      return _NNS_INT16;
+    case armnn::DataType::Signed32:
+      return _NNS_INT32;
+    case armnn::DataType::Boolean:
+      return _NNS_UINT8;
+    default:
+      return _NNS_END;
   }
 }
 
@@ -117,9 +127,9 @@ class ArmnnBackend final : public FilterBackend {
     check_against(props.output, out_, "output", "output=/outputtype=");
     try {
       std::vector<std::string> messages;
-      armnn::IOptimizedNetworkPtr opt = armnn::Optimize(
-          *network, devices, runtime_->GetDeviceSpec(), armnn::OptimizerOptions(),
-          armnn::Optional<std::vector<std::string> &>(messages));
+      armnn::IOptimizedNetworkPtr opt =
+          armnn::Optimize(*network, devices, runtime_->GetDeviceSpec(), armnn::OptimizerOptions(),
+                          armnn::Optional<std::vector<std::string> &>(messages));
       if (!opt) {
         std::string why;
         for (const auto &m : messages) why += (why.empty() ? "" : "; ") + m;
@@ -158,27 +168,26 @@ class ArmnnBackend final : public FilterBackend {
   void invoke(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out,
               uint32_t num_out) override {
     if (num_in != in_bind_.size() || num_out != out_bind_.size())
-      throw FilterError(prefix() + "model '" + path_ + "' has " +
-                        std::to_string(in_bind_.size()) + " input(s) and " +
-                        std::to_string(out_bind_.size()) + " output(s), got " +
+      throw FilterError(prefix() + "model '" + path_ + "' has " + std::to_string(in_bind_.size()) +
+                        " input(s) and " + std::to_string(out_bind_.size()) + " output(s), got " +
                         std::to_string(num_in) + " and " + std::to_string(num_out));
     inputs_.clear();
     outputs_.clear();
     for (uint32_t i = 0; i < num_in; ++i) {
       const armnn::TensorInfo &ti = in_bind_[i].second;
       if (in[i].size != ti.GetNumBytes())
-        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" +
-                          std::to_string(i) + " has " + std::to_string(in[i].size) +
-                          " bytes, but " + desc_to_string(in_.tensors[i]) + " needs " +
+        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(i) +
+                          " has " + std::to_string(in[i].size) + " bytes, but " +
+                          desc_to_string(in_.tensors[i]) + " needs " +
                           std::to_string(ti.GetNumBytes()));
       inputs_.emplace_back(in_bind_[i].first, armnn::ConstTensor(ti, in[i].data));
     }
     for (uint32_t i = 0; i < num_out; ++i) {
       const armnn::TensorInfo &ti = out_bind_[i].second;
       if (out[i].size != ti.GetNumBytes())
-        throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
-                          std::to_string(i) + " buffer has " + std::to_string(out[i].size) +
-                          " bytes, but " + desc_to_string(out_.tensors[i]) + " needs " +
+        throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(i) +
+                          " buffer has " + std::to_string(out[i].size) + " bytes, but " +
+                          desc_to_string(out_.tensors[i]) + " needs " +
                           std::to_string(ti.GetNumBytes()));
       outputs_.emplace_back(out_bind_[i].first, armnn::Tensor(ti, out[i].data));
     }
@@ -215,8 +224,8 @@ class ArmnnBackend final : public FilterBackend {
       for (const armnn::BackendId &id : armnn::BackendRegistryInstance().GetBackendIds())
         if (backend::iequals(id.Get(), forced)) return {id};
       throw FilterError(prefix() + "custom option Backend:" + forced +
-                            ": no such Arm NN device here (registered: " +
-                            registered_backends() + ")",
+                            ": no such Arm NN device here (registered: " + registered_backends() +
+                            ")",
                         -ENODEV);
     }
     backend::AcceleratorRequest acc = backend::parse_accelerator(props.accelerator);
@@ -239,9 +248,9 @@ class ArmnnBackend final : public FilterBackend {
       for (const char *dev : {"CpuAcc", "GpuAcc", "CpuRef"})
         if (is_registered(dev)) out.emplace_back(dev);
       if (out.empty())
-        throw FilterError(prefix() + "Arm NN has no usable device (registered: " +
-                              registered_backends() + ")",
-                          -ENODEV);
+        throw FilterError(
+            prefix() + "Arm NN has no usable device (registered: " + registered_backends() + ")",
+            -ENODEV);
     }
     return out;
   }
@@ -280,8 +289,8 @@ class ArmnnBackend final : public FilterBackend {
     return d;
   }
 
-  void check_against(const nns_tensors_desc *given, const nns_tensors_desc &model,
-                     const char *what, const char *props) const {
+  void check_against(const nns_tensors_desc *given, const nns_tensors_desc &model, const char *what,
+                     const char *props) const {
     if (!given || given->num_tensors == 0) return;
     if (given->num_tensors != model.num_tensors)
       throw FilterError(prefix() + "model '" + path_ + "' has " +
@@ -293,8 +302,8 @@ class ArmnnBackend final : public FilterBackend {
       if (backend::desc_rank(g) == 0) continue;  // only the type was given
       if (!backend::desc_equal(g, model.tensors[i]))
         throw FilterError(prefix() + "model '" + path_ + "': " + what + " tensor #" +
-                          std::to_string(i) + " is " + desc_to_string(model.tensors[i]) +
-                          ", but " + props + " say " + desc_to_string(given->tensors[i]));
+                          std::to_string(i) + " is " + desc_to_string(model.tensors[i]) + ", but " +
+                          props + " say " + desc_to_string(given->tensors[i]));
     }
   }
 
@@ -305,7 +314,7 @@ class ArmnnBackend final : public FilterBackend {
   std::vector<armnn::BindingPointInfo> in_bind_, out_bind_;
   std::vector<std::string> in_names_, out_names_;
   nns_tensors_desc in_{}, out_{};
-  armnn::InputTensors inputs_;    // reused between invokes (capacity kept)
+  armnn::InputTensors inputs_;  // reused between invokes (capacity kept)
   armnn::OutputTensors outputs_;
 };
 

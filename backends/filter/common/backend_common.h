@@ -26,8 +26,7 @@ inline std::string_view trim(std::string_view s) {
 }
 
 inline bool iequals(std::string_view a, std::string_view b) {
-  return a.size() == b.size() &&
-         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
            return std::tolower(static_cast<unsigned char>(x)) ==
                   std::tolower(static_cast<unsigned char>(y));
          });
@@ -44,8 +43,8 @@ inline std::vector<std::string_view> split(std::string_view s, char sep) {
   std::size_t pos = 0;
   while (true) {
     std::size_t next = s.find(sep, pos);
-    out.push_back(s.substr(pos, next == std::string_view::npos ? std::string_view::npos
-                                                               : next - pos));
+    out.push_back(
+        s.substr(pos, next == std::string_view::npos ? std::string_view::npos : next - pos));
     if (next == std::string_view::npos) break;
     pos = next + 1;
   }
@@ -69,8 +68,8 @@ inline std::vector<CustomOption> parse_custom(const char *custom, std::string_vi
     if (colon == std::string_view::npos || trim(item.substr(0, colon)).empty())
       throw FilterError(std::string(backend) + ": custom option '" + std::string(item) +
                         "' is not of the form key:value");
-    out.push_back({std::string(trim(item.substr(0, colon))),
-                   std::string(trim(item.substr(colon + 1)))});
+    out.push_back(
+        {std::string(trim(item.substr(0, colon))), std::string(trim(item.substr(colon + 1)))});
   }
   return out;
 }
@@ -177,9 +176,8 @@ inline std::size_t type_size(uint32_t type) {
 }
 
 inline const char *type_name(uint32_t type) {
-  static const char *const names[] = {"int32",   "uint32",  "int16", "uint16",
-                                      "int8",    "uint8",   "float64", "float32",
-                                      "int64",   "uint64",  "float16"};
+  static const char *const names[] = {"int32",   "uint32",  "int16", "uint16", "int8",   "uint8",
+                                      "float64", "float32", "int64", "uint64", "float16"};
   return type < sizeof(names) / sizeof(names[0]) ? names[type] : "unknown";
 }
 
@@ -222,8 +220,7 @@ inline std::string single_model_path(const nns_filter_props &props, std::string_
   std::error_code ec;
   auto st = std::filesystem::status(path, ec);
   if (ec || !std::filesystem::exists(st))
-    throw FilterError(std::string(backend) + ": model file '" + path + "' does not exist",
-                      -ENOENT);
+    throw FilterError(std::string(backend) + ": model file '" + path + "' does not exist", -ENOENT);
   if (!std::filesystem::is_regular_file(st))
     throw FilterError(std::string(backend) + ": model file '" + path + "' is not a regular file",
                       -EINVAL);

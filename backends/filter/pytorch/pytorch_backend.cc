@@ -46,20 +46,31 @@ using backend::desc_to_string;
 
 constexpr const char *kName = "pytorch";
 
-std::string prefix() { return std::string(kName) + ": "; }
+std::string prefix() {
+  return std::string(kName) + ": ";
+}
 
 // NNStreamer tensor_type -> torch dtype; nullopt for types libtorch 1.13 lacks (uint16/32/64).
 std::optional<at::ScalarType> to_torch(uint32_t t) {
   switch (t) {
-    case _NNS_UINT8: return at::kByte;
-    case _NNS_INT8: return at::kChar;
-    case _NNS_INT16: return at::kShort;
-    case _NNS_INT32: return at::kInt;
-    case _NNS_INT64: return at::kLong;
-    case _NNS_FLOAT16: return at::kHalf;
-    case _NNS_FLOAT32: return at::kFloat;
-    case _NNS_FLOAT64: return at::kDouble;
-    default: return std::nullopt;
+    case _NNS_UINT8:
+      return at::kByte;
+    case _NNS_INT8:
+      return at::kChar;
+    case _NNS_INT16:
+      return at::kShort;
+    case _NNS_INT32:
+      return at::kInt;
+    case _NNS_INT64:
+      return at::kLong;
+    case _NNS_FLOAT16:
+      return at::kHalf;
+    case _NNS_FLOAT32:
+      return at::kFloat;
+    case _NNS_FLOAT64:
+      return at::kDouble;
+    default:
+      return std::nullopt;
   }
 }
 
@@ -67,15 +78,24 @@ std::optional<at::ScalarType> to_torch(uint32_t t) {
 uint32_t from_torch(at::ScalarType t) {
   switch (t) {
     case at::kByte:
-    case at::kBool: return _NNS_UINT8;
-    case at::kChar: return _NNS_INT8;
-    case at::kShort: return _NNS_INT16;
-    case at::kInt: return _NNS_INT32;
-    case at::kLong: return _NNS_INT64;
-    case at::kHalf: return _NNS_FLOAT16;
-    case at::kFloat: return _NNS_FLOAT32;
-    case at::kDouble: return _NNS_FLOAT64;
-    default: return _NNS_END;
+    case at::kBool:
+      return _NNS_UINT8;
+    case at::kChar:
+      return _NNS_INT8;
+    case at::kShort:
+      return _NNS_INT16;
+    case at::kInt:
+      return _NNS_INT32;
+    case at::kLong:
+      return _NNS_INT64;
+    case at::kHalf:
+      return _NNS_FLOAT16;
+    case at::kFloat:
+      return _NNS_FLOAT32;
+    case at::kDouble:
+      return _NNS_FLOAT64;
+    default:
+      return _NNS_END;
   }
 }
 
@@ -132,8 +152,10 @@ class TorchBackend final : public FilterBackend {
       for (uint32_t i = 0; i < out_.num_tensors; ++i) {
         if (desc_rank(out_.tensors[i]) == 0 || backend::type_size(out_.tensors[i].type) == 0)
           throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
-                            std::to_string(i) + " needs output= dims and outputtype= ("
-                            "got " + desc_to_string(out_.tensors[i]) + ")");
+                            std::to_string(i) +
+                            " needs output= dims and outputtype= ("
+                            "got " +
+                            desc_to_string(out_.tensors[i]) + ")");
       }
     }
   }
@@ -172,10 +194,9 @@ class TorchBackend final : public FilterBackend {
     for (uint32_t i = 0; i < num_in; ++i) {
       const Plan &p = plans_[i];
       if (in[i].size != p.bytes)
-        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" +
-                          std::to_string(i) + " has " + std::to_string(in[i].size) +
-                          " bytes, but " + desc_to_string(in_.tensors[i]) + " needs " +
-                          std::to_string(p.bytes));
+        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(i) +
+                          " has " + std::to_string(in[i].size) + " bytes, but " +
+                          desc_to_string(in_.tensors[i]) + " needs " + std::to_string(p.bytes));
       feeds.emplace_back(torch::from_blob(in[i].data, p.shape, at::TensorOptions(p.dtype)));
     }
     std::vector<at::Tensor> results = run(std::move(feeds), in_);
@@ -209,10 +230,9 @@ class TorchBackend final : public FilterBackend {
     for (uint32_t i = 0; i < in_info.num_tensors; ++i) {
       Plan p = make_plan(in_info.tensors[i], i);
       if (in[i].size != p.bytes)
-        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" +
-                          std::to_string(i) + " has " + std::to_string(in[i].size) +
-                          " bytes, but " + desc_to_string(in_info.tensors[i]) + " needs " +
-                          std::to_string(p.bytes));
+        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(i) +
+                          " has " + std::to_string(in[i].size) + " bytes, but " +
+                          desc_to_string(in_info.tensors[i]) + " needs " + std::to_string(p.bytes));
       feeds.emplace_back(torch::from_blob(in[i].data, p.shape, at::TensorOptions(p.dtype)));
     }
     std::vector<at::Tensor> results = run(std::move(feeds), in_info);
@@ -296,12 +316,11 @@ class TorchBackend final : public FilterBackend {
           }
           continue;  // try the next accelerator in the list
         }
-        if (a == "cpu" || a == "cpu.simd" || a == "default" || a == "auto" || a == "none")
-          break;
+        if (a == "cpu" || a == "cpu.simd" || a == "default" || a == "auto" || a == "none") break;
       }
-      bool only_gpu = !acc.wanted.empty() &&
-                      std::all_of(acc.wanted.begin(), acc.wanted.end(),
-                                  [](const std::string &a) { return a == "gpu"; });
+      bool only_gpu =
+          !acc.wanted.empty() && std::all_of(acc.wanted.begin(), acc.wanted.end(),
+                                             [](const std::string &a) { return a == "gpu"; });
       if (only_gpu && !want_gpu)
         throw FilterError(prefix() + "accelerator=" + props.accelerator +
                               " asks for a GPU, but this libtorch has no usable CUDA device; "
@@ -333,9 +352,8 @@ class TorchBackend final : public FilterBackend {
       m->eval();
       return m;
     } catch (const std::exception &e) {
-      throw FilterError(prefix() + "cannot load TorchScript model '" + path +
-                            "': " + torch_message(e),
-                        -EINVAL);
+      throw FilterError(
+          prefix() + "cannot load TorchScript model '" + path + "': " + torch_message(e), -EINVAL);
     }
   }
 
@@ -343,12 +361,12 @@ class TorchBackend final : public FilterBackend {
     Plan p;
     uint32_t r = desc_rank(t);
     if (r == 0)
-      throw FilterError(prefix() + "model '" + path_ + "': input tensor #" +
-                        std::to_string(idx) + " has no dimensions (set input=)");
+      throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(idx) +
+                        " has no dimensions (set input=)");
     auto dt = to_torch(t.type);
     if (!dt)
-      throw FilterError(prefix() + "model '" + path_ + "': input tensor #" +
-                        std::to_string(idx) + " has type " + backend::type_name(t.type) +
+      throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(idx) +
+                        " has type " + backend::type_name(t.type) +
                         ", which libtorch " TORCH_VERSION " does not support");
     p.dtype = *dt;
     p.shape.resize(r);
@@ -409,15 +427,14 @@ class TorchBackend final : public FilterBackend {
     d = nns_tensor_desc{};
     d.type = from_torch(t.scalar_type());
     if (d.type == _NNS_END)
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
-                        std::to_string(idx) + " has torch type " +
-                        std::string(c10::toString(t.scalar_type())) +
+      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(idx) +
+                        " has torch type " + std::string(c10::toString(t.scalar_type())) +
                         ", which has no NNStreamer tensor type");
     auto s = t.sizes();
     if (s.size() > NNS_TENSOR_RANK_LIMIT)
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
-                        std::to_string(idx) + " has rank " + std::to_string(s.size()) +
-                        " (limit " + std::to_string(NNS_TENSOR_RANK_LIMIT) + ")");
+      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(idx) +
+                        " has rank " + std::to_string(s.size()) + " (limit " +
+                        std::to_string(NNS_TENSOR_RANK_LIMIT) + ")");
     if (s.empty()) {
       d.dims[0] = 1;  // a scalar is one element
       return;
@@ -462,9 +479,9 @@ class TorchBackend final : public FilterBackend {
       std::string ins;
       for (uint32_t i = 0; i < info.num_tensors; ++i)
         ins += (i ? ", " : "") + desc_to_string(info.tensors[i]);
-      throw FilterError(prefix() + "model '" + path + "' failed on input [" + ins +
-                            "]: " + torch_message(e),
-                        -EIO);
+      throw FilterError(
+          prefix() + "model '" + path + "' failed on input [" + ins + "]: " + torch_message(e),
+          -EIO);
     }
     std::vector<at::Tensor> out;
     flatten(result, out, path);
@@ -481,18 +498,17 @@ class TorchBackend final : public FilterBackend {
   void check_output(uint32_t i, const at::Tensor &t, std::size_t size) const {
     uint32_t type = from_torch(t.scalar_type());
     const nns_tensor_desc *want = have_out_ && i < out_.num_tensors ? &out_.tensors[i] : nullptr;
-    if (want && (type != want->type ||
-                 static_cast<uint64_t>(t.numel()) != backend::desc_elements(*want)))
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
-                        std::to_string(i) + " is " + backend::type_name(type) + " " +
-                        shape_str(t.sizes()) + " (" + std::to_string(t.numel()) +
-                        " elements), but output=/outputtype= say " + desc_to_string(*want) +
-                        " (" + std::to_string(backend::desc_elements(*want)) + " elements)");
+    if (want &&
+        (type != want->type || static_cast<uint64_t>(t.numel()) != backend::desc_elements(*want)))
+      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(i) +
+                        " is " + backend::type_name(type) + " " + shape_str(t.sizes()) + " (" +
+                        std::to_string(t.numel()) + " elements), but output=/outputtype= say " +
+                        desc_to_string(*want) + " (" +
+                        std::to_string(backend::desc_elements(*want)) + " elements)");
     if (t.nbytes() != size)
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
-                        std::to_string(i) + " " + shape_str(t.sizes()) + " has " +
-                        std::to_string(t.nbytes()) + " bytes, but the output buffer has " +
-                        std::to_string(size));
+      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(i) +
+                        " " + shape_str(t.sizes()) + " has " + std::to_string(t.nbytes()) +
+                        " bytes, but the output buffer has " + std::to_string(size));
   }
 
   std::string path_;
