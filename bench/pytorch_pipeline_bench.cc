@@ -3,10 +3,11 @@
 //   torch    : libtorch alone (from_blob + forward + copy of the 10 scores), in a loop
 //   backend  : the pytorch filter back end (.so) called through its C ABI, in a loop
 //   pipeline : appsrc ! tensor_filter framework=pytorch ... ! fakesink, one buffer per invoke
+//              (appsrc fed from its need-data callback: one streaming thread, no queue hand-off)
 // The figure of merit is pipeline / backend (same back end, with and without GStreamer).
 // Rounds alternate the modes so machine load hits them alike; medians are reported.
 //
-//   build/bench/pytorch_pipeline_bench [iterations=2000] [rounds=5] [threads=1]
+//   build/bench/pytorch_pipeline_bench [iterations=2000] [rounds=5] [threads=1] [modes=tbp]
 #include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 #include <torch/script.h>
@@ -20,9 +21,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "../tests/backends/backend_loader.h"
@@ -40,12 +44,33 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// CPU seconds used by the whole process (every thread), to judge cost on a busy machine.
+double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+// CPU seconds used by the calling thread.
+double thread_cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+// One measurement: invokes per wall second and CPU microseconds per invoke.
+struct Rate {
+  double per_s = 0;
+  double cpu_us = 0;         // whole process
+  double thread_cpu_us = 0;  // the thread that invokes
+};
+
 int argmax(const uint8_t *s) {
   return static_cast<int>(std::max_element(s, s + 10) - s);
 }
 
 // libtorch alone.
-double run_torch(torch::jit::Module &m, int n) {
+Rate run_torch(torch::jit::Module &m, int n) {
   std::vector<uint8_t> in = g_digit, out(10);
   auto once = [&] {
     c10::InferenceMode guard;
@@ -55,103 +80,137 @@ double run_torch(torch::jit::Module &m, int n) {
     std::memcpy(out.data(), r.data_ptr(), 10);
   };
   for (int i = 0; i < 50; ++i) once();
+  double c0 = cpu_now(), tc0 = thread_cpu_now();
   auto t0 = Clock::now();
   for (int i = 0; i < n; ++i) once();
   double s = seconds_since(t0);
+  double c = cpu_now() - c0, tc = thread_cpu_now() - tc0;
   if (argmax(out.data()) != 9) std::fprintf(stderr, "torch: wrong class %d\n", argmax(out.data()));
-  return n / s;
+  return {n / s, c * 1e6 / n, tc * 1e6 / n};
 }
 
 // The back end through its C ABI.
-double run_backend(nns::test::Instance &inst, int n) {
+Rate run_backend(nns::test::Instance &inst, int n) {
   std::vector<uint8_t> in = g_digit, out(10);
   std::vector<GstTensorMemory> ins{{in.data(), in.size()}};
   std::vector<GstTensorMemory> outs{{out.data(), out.size()}};
   for (int i = 0; i < 50; ++i) inst.invoke(ins, outs);
+  double c0 = cpu_now(), tc0 = thread_cpu_now();
   auto t0 = Clock::now();
   for (int i = 0; i < n; ++i)
     if (inst.invoke(ins, outs) != 0) {
       std::fprintf(stderr, "backend: %s\n", inst.error().c_str());
-      return 0;
+      return {};
     }
   double s = seconds_since(t0);
+  double c = cpu_now() - c0, tc = thread_cpu_now() - tc0;
   if (argmax(out.data()) != 9) std::fprintf(stderr, "backend: wrong class\n");
-  return n / s;
+  return {n / s, c * 1e6 / n, tc * 1e6 / n};
 }
 
 struct SinkCount {
   std::atomic<int> n{0};
   std::atomic<int> bad{0};
+  int warm = 0, total = 0;
+  std::function<void()> on_warm;
+  double thread_cpu0 = 0, thread_cpu1 = 0;  // streaming thread, at warm-up end and at the end
 };
 
-void on_handoff(GstElement *, GstBuffer *buf, GstPad *, gpointer data) {
+GstPadProbeReturn on_buffer(GstPad *, GstPadProbeInfo *info, gpointer data) {
   auto *c = static_cast<SinkCount *>(data);
+  GstBuffer *buf = GST_PAD_PROBE_INFO_BUFFER(info);
   GstMapInfo map;
   if (gst_buffer_map(buf, &map, GST_MAP_READ)) {
     if (map.size != 10 || argmax(map.data) != 9) c->bad++;
     gst_buffer_unmap(buf, &map);
   }
-  c->n++;
+  int k = ++c->n;
+  if (k == c->warm) {
+    c->thread_cpu0 = thread_cpu_now();
+    if (c->on_warm) c->on_warm();
+  }
+  if (k == c->total) c->thread_cpu1 = thread_cpu_now();
+  return GST_PAD_PROBE_OK;
 }
 
-// appsrc ! tensor_filter ! fakesink. Returns buffers per second, 0 on failure.
-double run_pipeline(int n) {
+// appsrc ! tensor_filter ! fakesink. appsrc asks for data from its own streaming thread and the
+// need-data callback pushes the next buffer right there, so the whole path runs on one thread
+// (as a camera source would) and the app thread only waits for EOS.
+struct Feeder {
+  GstBuffer *buf = nullptr;
+  int left = 0;
+};
+
+void on_need_data(GstAppSrc *src, guint, gpointer data) {
+  auto *f = static_cast<Feeder *>(data);
+  if (f->left > 0) {
+    f->left--;
+    gst_app_src_push_buffer(src, gst_buffer_ref(f->buf));
+  } else if (f->left == 0) {
+    f->left = -1;
+    gst_app_src_end_of_stream(src);
+  }
+}
+
+Rate run_pipeline(int n) {
   std::string desc =
-      "appsrc name=src is-live=false block=true format=time max-bytes=40000 "
+      "appsrc name=src is-live=false format=time max-buffers=4 "
       "caps=other/tensors,format=static,num_tensors=1,dimensions=1:28:28:1,types=uint8,"
       "framerate=0/1 ! tensor_filter framework=pytorch model=" +
       g_model + " input=1:28:28:1 inputtype=uint8 output=10:1 outputtype=uint8 custom=NumThreads:" +
-      std::to_string(g_threads) + " ! fakesink name=sink sync=false signal-handoffs=true";
+      std::to_string(g_threads) + " ! fakesink name=sink sync=false enable-last-sample=false";
   GError *err = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &err);
   if (!p || err) {
     std::fprintf(stderr, "pipeline: %s\n", err ? err->message : "parse failed");
     if (err) g_error_free(err);
     if (p) gst_object_unref(p);
-    return 0;
+    return {};
   }
   GstElement *src = gst_bin_get_by_name(GST_BIN(p), "src");
   GstElement *sink = gst_bin_get_by_name(GST_BIN(p), "sink");
   SinkCount count;
-  g_signal_connect(sink, "handoff", G_CALLBACK(on_handoff), &count);
-  GstBuffer *buf = gst_buffer_new_memdup(g_digit.data(), g_digit.size());
-  gst_element_set_state(p, GST_STATE_PLAYING);
+  GstPad *sinkpad = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(sinkpad, GST_PAD_PROBE_TYPE_BUFFER, on_buffer, &count, nullptr);
+  gst_object_unref(sinkpad);
+  const int warm = 50;
+  Feeder feeder;
+  feeder.buf = gst_buffer_new_memdup(g_digit.data(), g_digit.size());
+  feeder.left = warm + n;
+  GstAppSrcCallbacks cbs{};
+  cbs.need_data = on_need_data;
+  gst_app_src_set_callbacks(GST_APP_SRC(src), &cbs, &feeder, nullptr);
   GstBus *bus = gst_element_get_bus(p);
-  auto push = [&](int k) {
-    for (int i = 0; i < k; ++i) gst_app_src_push_buffer(GST_APP_SRC(src), gst_buffer_ref(buf));
+  // Warm-up (model load, first invokes) is outside the timed part: time from the 50th buffer.
+  std::atomic<double> c0{0};
+  std::atomic<int64_t> t0{0};
+  count.on_warm = [&] {
+    c0 = cpu_now();
+    t0 = Clock::now().time_since_epoch().count();
   };
-  auto failed = [&]() {
-    GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
-    if (!m) return false;
+  count.warm = warm;
+  count.total = warm + n;
+  gst_element_set_state(p, GST_STATE_PLAYING);
+  Rate rate;
+  GstMessage *m = gst_bus_timed_pop_filtered(
+      bus, 300 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  double c1 = cpu_now();
+  auto t1 = Clock::now().time_since_epoch().count();
+  if (m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_EOS && count.n.load() == warm + n) {
+    double s = std::chrono::duration<double>(Clock::duration(t1 - t0.load())).count();
+    rate = {n / s, (c1 - c0.load()) * 1e6 / n, (count.thread_cpu1 - count.thread_cpu0) * 1e6 / n};
+  } else if (m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
     GError *e = nullptr;
     gst_message_parse_error(m, &e, nullptr);
     std::fprintf(stderr, "pipeline error: %s\n", e ? e->message : "?");
     if (e) g_error_free(e);
-    gst_message_unref(m);
-    return true;
-  };
-  const int warm = 50;
-  push(warm);
-  double rate = 0;
-  auto wait0 = Clock::now();
-  while (count.n.load() < warm && !failed() && seconds_since(wait0) < 60) g_usleep(200);
-  if (count.n.load() >= warm) {
-    auto t0 = Clock::now();
-    push(n);
-    gst_app_src_end_of_stream(GST_APP_SRC(src));
-    GstMessage *m = gst_bus_timed_pop_filtered(
-        bus, 120 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-    double s = seconds_since(t0);
-    if (m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_EOS && count.n.load() == warm + n)
-      rate = n / s;
-    else
-      std::fprintf(stderr, "pipeline: no EOS or lost buffers (%d of %d)\n", count.n.load(),
-                   warm + n);
-    if (m) gst_message_unref(m);
-    if (count.bad.load()) std::fprintf(stderr, "pipeline: %d wrong results\n", count.bad.load());
+  } else {
+    std::fprintf(stderr, "pipeline: no EOS or lost buffers (%d of %d)\n", count.n.load(), warm + n);
   }
+  if (m) gst_message_unref(m);
+  if (count.bad.load()) std::fprintf(stderr, "pipeline: %d wrong results\n", count.bad.load());
   gst_element_set_state(p, GST_STATE_NULL);
-  gst_buffer_unref(buf);
+  gst_buffer_unref(feeder.buf);
   gst_object_unref(bus);
   gst_object_unref(src);
   gst_object_unref(sink);
@@ -170,6 +229,7 @@ int main(int argc, char **argv) {
   int n = argc > 1 ? std::atoi(argv[1]) : 2000;
   int rounds = argc > 2 ? std::atoi(argv[2]) : 5;
   g_threads = argc > 3 ? std::atoi(argv[3]) : 1;
+  std::string modes = argc > 4 ? argv[4] : "tbp";  // t: torch, b: back end, p: pipeline
   const char *shared = std::getenv("NNS_SHARED_DIR");
   std::string base = shared ? std::string(shared) + "/models/upstream"
                             : std::string(NNS_SOURCE_DIR) + "/../shared/models/upstream";
@@ -189,8 +249,11 @@ int main(int argc, char **argv) {
   }
   at::set_num_threads(g_threads);
 
+  // Plain libtorch, prepared as the back end prepares it (freeze + optimize_for_inference).
   torch::jit::Module m = torch::jit::load(g_model);
   m.eval();
+  m = torch::jit::freeze(m);
+  m = torch::jit::optimize_for_inference(m);
   nns::test::BackendLib lib("pytorch");
   if (!lib.ok()) {
     std::fprintf(stderr, "%s\n", lib.error().c_str());
@@ -212,27 +275,44 @@ int main(int argc, char **argv) {
   if (tf) gst_object_unref(tf);
   if (!have_filter) std::printf("tensor_filter is not built in this tree: pipeline skipped\n");
 
-  std::vector<double> rt, rb, rp, ratio;
+  std::vector<double> rt, rb, rp, ratio, ct, cb, cp, cratio;
   for (int r = 0; r < rounds; ++r) {
-    rt.push_back(run_torch(m, n));
-    rb.push_back(run_backend(inst, n));
-    if (have_filter) {
-      rp.push_back(run_pipeline(n));
-      ratio.push_back(rb.back() > 0 ? rp.back() / rb.back() : 0);
+    Rate t, b, p;
+    if (modes.find('t') != std::string::npos) t = run_torch(m, n);
+    if (modes.find('b') != std::string::npos) b = run_backend(inst, n);
+    if (modes.find('B') != std::string::npos) {  // the same loop on another thread
+      std::thread th([&] { b = run_backend(inst, n); });
+      th.join();
     }
-    std::printf("round %d: torch %.0f/s  backend %.0f/s  pipeline %.0f/s\n", r + 1, rt.back(),
-                rb.back(), have_filter ? rp.back() : 0.0);
+    rt.push_back(t.per_s);
+    ct.push_back(t.cpu_us);
+    rb.push_back(b.per_s);
+    cb.push_back(b.cpu_us);
+    if (have_filter && modes.find('p') != std::string::npos) {
+      p = run_pipeline(n);
+      rp.push_back(p.per_s);
+      cp.push_back(p.cpu_us);
+      ratio.push_back(b.per_s > 0 ? p.per_s / b.per_s : 0);
+      cratio.push_back(p.cpu_us > 0 ? b.cpu_us / p.cpu_us : 0);
+    }
+    std::printf(
+        "round %d: torch %.0f/s (cpu %.1f us, thread %.1f)  backend %.0f/s (cpu %.1f, thread "
+        "%.1f)  pipeline %.0f/s (cpu %.1f, thread %.1f)\n",
+        r + 1, t.per_s, t.cpu_us, t.thread_cpu_us, b.per_s, b.cpu_us, b.thread_cpu_us, p.per_s,
+        p.cpu_us, p.thread_cpu_us);
     std::fflush(stdout);
   }
   std::printf("LeNet-5, %d invokes per mode and round, %d rounds, %d intra-op thread(s)\n", n,
               rounds, g_threads);
-  std::printf("median torch    %.0f invokes/s (%.1f us)\n", median(rt), 1e6 / median(rt));
-  std::printf("median backend  %.0f invokes/s (%.1f us)\n", median(rb), 1e6 / median(rb));
+  std::printf("median torch    %.0f invokes/s, %.1f us CPU per invoke\n", median(rt), median(ct));
+  std::printf("median backend  %.0f invokes/s, %.1f us CPU per invoke\n", median(rb), median(cb));
   if (have_filter) {
-    std::printf("median pipeline %.0f buffers/s (%.1f us)\n", median(rp), 1e6 / median(rp));
-    std::printf("pipeline/backend: median of per-round ratios %.3f, best round %.3f\n",
-                median(ratio), *std::max_element(ratio.begin(), ratio.end()));
+    std::printf("median pipeline %.0f buffers/s, %.1f us CPU per buffer\n", median(rp), median(cp));
+    std::printf("pipeline/backend throughput (wall): median of per-round ratios %.3f\n",
+                median(ratio));
+    std::printf("pipeline/backend throughput (CPU cost, backend us / pipeline us): %.3f\n",
+                median(cratio));
   }
-  std::printf("backend/torch: %.3f\n", median(rb) / median(rt));
+  std::printf("backend/torch (wall): %.3f\n", median(rb) / median(rt));
   return 0;
 }

@@ -520,6 +520,19 @@ TEST(PytorchBackendErrors, CustomOptions) {
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), 0) << inst.error();
   }
+  for (const char *opt : {"OptimizeForInference:false", "OptimizeForInference:true"}) {
+    Props p = lenet_props();
+    p.set_custom(opt);
+    Instance inst(lib().api(), p);
+    ASSERT_EQ(inst.rc(), 0) << opt << ": " << inst.error();
+    std::vector<uint8_t> digit =
+        nns::test::read_file(nns::test::shared_models_dir() + "/data/9.raw");
+    std::vector<uint8_t> scores(10);
+    std::vector<GstTensorMemory> ins{{digit.data(), 784}};
+    std::vector<GstTensorMemory> outs{{scores.data(), 10}};
+    ASSERT_EQ(inst.invoke(ins, outs), 0) << inst.error();
+    EXPECT_EQ(scores[9], 254) << opt;
+  }
   {
     Props p = lenet_props();
     p.set_custom("numthreads:1, Bogus_Key:3");

@@ -17,7 +17,8 @@
 // when nothing else shares its storage.
 //
 // custom= keys (case-insensitive): use_gpu:true|false, NumThreads:N (process-wide intra-op
-// threads of libtorch). Unknown keys are rejected.
+// threads of libtorch), OptimizeForInference:true|false (freeze + optimize_for_inference at
+// load, default true). Unknown keys are rejected.
 #include <torch/script.h>
 
 #include <ATen/Parallel.h>
@@ -151,7 +152,7 @@ class TorchBackend final : public FilterBackend {
       have_out_ = user_out_ = true;
       for (uint32_t i = 0; i < out_.num_tensors; ++i) {
         if (desc_rank(out_.tensors[i]) == 0 || backend::type_size(out_.tensors[i].type) == 0)
-          throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
+          throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
                             std::to_string(i) +
                             " needs output= dims and outputtype= ("
                             "got " +
@@ -182,10 +183,10 @@ class TorchBackend final : public FilterBackend {
   void invoke(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out,
               uint32_t num_out) override {
     if (!have_in_)
-      throw FilterError(prefix() + "model '" + path_ +
+      throw FilterError(prefix() + "model '" + model_path() +
                         "': the input tensors are unknown (set input= and inputtype=)");
     if (num_in != plans_.size())
-      throw FilterError(prefix() + "model '" + path_ + "' is configured for " +
+      throw FilterError(prefix() + "model '" + model_path() + "' is configured for " +
                         std::to_string(plans_.size()) + " input tensor(s), got " +
                         std::to_string(num_in));
     c10::InferenceMode guard;
@@ -194,14 +195,15 @@ class TorchBackend final : public FilterBackend {
     for (uint32_t i = 0; i < num_in; ++i) {
       const Plan &p = plans_[i];
       if (in[i].size != p.bytes)
-        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(i) +
-                          " has " + std::to_string(in[i].size) + " bytes, but " +
-                          desc_to_string(in_.tensors[i]) + " needs " + std::to_string(p.bytes));
+        throw FilterError(prefix() + "model '" + model_path() + "': input tensor #" +
+                          std::to_string(i) + " has " + std::to_string(in[i].size) +
+                          " bytes, but " + desc_to_string(in_.tensors[i]) + " needs " +
+                          std::to_string(p.bytes));
       feeds.emplace_back(torch::from_blob(in[i].data, p.shape, at::TensorOptions(p.dtype)));
     }
     std::vector<at::Tensor> results = run(std::move(feeds), in_);
     if (results.size() != num_out)
-      throw FilterError(prefix() + "model '" + path_ + "' returned " +
+      throw FilterError(prefix() + "model '" + model_path() + "' returned " +
                         std::to_string(results.size()) + " tensor(s), but " +
                         std::to_string(num_out) + " output tensor(s) are configured" +
                         (have_out_ ? " (output=/outputtype=)" : ""));
@@ -230,14 +232,15 @@ class TorchBackend final : public FilterBackend {
     for (uint32_t i = 0; i < in_info.num_tensors; ++i) {
       Plan p = make_plan(in_info.tensors[i], i);
       if (in[i].size != p.bytes)
-        throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(i) +
-                          " has " + std::to_string(in[i].size) + " bytes, but " +
-                          desc_to_string(in_info.tensors[i]) + " needs " + std::to_string(p.bytes));
+        throw FilterError(prefix() + "model '" + model_path() + "': input tensor #" +
+                          std::to_string(i) + " has " + std::to_string(in[i].size) +
+                          " bytes, but " + desc_to_string(in_info.tensors[i]) + " needs " +
+                          std::to_string(p.bytes));
       feeds.emplace_back(torch::from_blob(in[i].data, p.shape, at::TensorOptions(p.dtype)));
     }
     std::vector<at::Tensor> results = run(std::move(feeds), in_info);
     if (results.size() > NNS_TENSOR_SIZE_LIMIT)
-      throw FilterError(prefix() + "model '" + path_ + "' returned too many tensors");
+      throw FilterError(prefix() + "model '" + model_path() + "' returned too many tensors");
     nns_tensors_desc desc{};
     desc.num_tensors = static_cast<uint32_t>(results.size());
     desc.format = _NNS_TENSOR_FORMAT_FLEXIBLE;
@@ -337,9 +340,11 @@ class TorchBackend final : public FilterBackend {
                             -ENODEV);
       } else if (backend::iequals(o.key, "NumThreads")) {
         threads = static_cast<int>(backend::parse_int_option(kName, o, 0, 1024));
+      } else if (backend::iequals(o.key, "OptimizeForInference")) {
+        optimize_ = backend::parse_bool_option(kName, o);
       } else {
         throw FilterError(prefix() + "unknown custom option '" + o.key +
-                          "' (known: use_gpu, NumThreads)");
+                          "' (known: use_gpu, NumThreads, OptimizeForInference)");
       }
     }
     device_ = want_gpu ? at::Device(at::kCUDA) : at::Device(at::kCPU);
@@ -361,12 +366,12 @@ class TorchBackend final : public FilterBackend {
     Plan p;
     uint32_t r = desc_rank(t);
     if (r == 0)
-      throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(idx) +
-                        " has no dimensions (set input=)");
+      throw FilterError(prefix() + "model '" + model_path() + "': input tensor #" +
+                        std::to_string(idx) + " has no dimensions (set input=)");
     auto dt = to_torch(t.type);
     if (!dt)
-      throw FilterError(prefix() + "model '" + path_ + "': input tensor #" + std::to_string(idx) +
-                        " has type " + backend::type_name(t.type) +
+      throw FilterError(prefix() + "model '" + model_path() + "': input tensor #" +
+                        std::to_string(idx) + " has type " + backend::type_name(t.type) +
                         ", which libtorch " TORCH_VERSION " does not support");
     p.dtype = *dt;
     p.shape.resize(r);
@@ -381,7 +386,7 @@ class TorchBackend final : public FilterBackend {
 
   void configure_input(const nns_tensors_desc &in) {
     if (in.num_tensors == 0 || in.num_tensors > NNS_TENSOR_SIZE_LIMIT)
-      throw FilterError(prefix() + "model '" + path_ + "': bad number of input tensors (" +
+      throw FilterError(prefix() + "model '" + model_path() + "': bad number of input tensors (" +
                         std::to_string(in.num_tensors) + ")");
     std::vector<Plan> plans;
     for (uint32_t i = 0; i < in.num_tensors; ++i) plans.push_back(make_plan(in.tensors[i], i));
@@ -398,7 +403,7 @@ class TorchBackend final : public FilterBackend {
     for (const Plan &p : plans_) feeds.emplace_back(at::zeros(p.shape, at::TensorOptions(p.dtype)));
     std::vector<at::Tensor> results = run(std::move(feeds), in_);
     if (results.size() > NNS_TENSOR_SIZE_LIMIT)
-      throw FilterError(prefix() + "model '" + path_ + "' returned too many tensors");
+      throw FilterError(prefix() + "model '" + model_path() + "' returned too many tensors");
     nns_tensors_desc desc{};
     desc.num_tensors = static_cast<uint32_t>(results.size());
     for (std::size_t i = 0; i < results.size(); ++i)
@@ -406,13 +411,13 @@ class TorchBackend final : public FilterBackend {
     if (user_out_) {
       // Keep the user's output= when it is compatible (same type and element count).
       if (desc.num_tensors != out_.num_tensors)
-        throw FilterError(prefix() + "model '" + path_ + "' returns " +
+        throw FilterError(prefix() + "model '" + model_path() + "' returns " +
                           std::to_string(desc.num_tensors) + " tensor(s), but output= has " +
                           std::to_string(out_.num_tensors));
       for (uint32_t i = 0; i < desc.num_tensors; ++i) {
         if (desc.tensors[i].type != out_.tensors[i].type ||
             backend::desc_elements(desc.tensors[i]) != backend::desc_elements(out_.tensors[i]))
-          throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
+          throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
                             std::to_string(i) + " is " + desc_to_string(desc.tensors[i]) +
                             ", but output=/outputtype= say " + desc_to_string(out_.tensors[i]));
       }
@@ -427,13 +432,14 @@ class TorchBackend final : public FilterBackend {
     d = nns_tensor_desc{};
     d.type = from_torch(t.scalar_type());
     if (d.type == _NNS_END)
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(idx) +
-                        " has torch type " + std::string(c10::toString(t.scalar_type())) +
+      throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
+                        std::to_string(idx) + " has torch type " +
+                        std::string(c10::toString(t.scalar_type())) +
                         ", which has no NNStreamer tensor type");
     auto s = t.sizes();
     if (s.size() > NNS_TENSOR_RANK_LIMIT)
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(idx) +
-                        " has rank " + std::to_string(s.size()) + " (limit " +
+      throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
+                        std::to_string(idx) + " has rank " + std::to_string(s.size()) + " (limit " +
                         std::to_string(NNS_TENSOR_RANK_LIMIT) + ")");
     if (s.empty()) {
       d.dims[0] = 1;  // a scalar is one element
@@ -441,33 +447,37 @@ class TorchBackend final : public FilterBackend {
     }
     for (std::size_t k = 0; k < s.size(); ++k) {
       if (s[k] <= 0 || s[k] > UINT32_MAX)
-        throw FilterError(prefix() + "model '" + path_ + "': output tensor #" +
+        throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
                           std::to_string(idx) + " has shape " + shape_str(s) +
                           ", which NNStreamer dims cannot express");
       d.dims[s.size() - 1 - k] = static_cast<uint32_t>(s[k]);
     }
   }
 
-  static void flatten(const c10::IValue &v, std::vector<at::Tensor> &out, const std::string &who) {
+  static void flatten(const c10::IValue &v, std::vector<at::Tensor> &out,
+                      const TorchBackend &self) {
     if (v.isTensor()) {
       out.push_back(v.toTensor());
     } else if (v.isTuple()) {
-      for (const auto &e : v.toTuple()->elements()) flatten(e, out, who);
+      for (const auto &e : v.toTuple()->elements()) flatten(e, out, self);
     } else if (v.isList()) {
-      for (const auto &e : v.toListRef()) flatten(e, out, who);
+      for (const auto &e : v.toListRef()) flatten(e, out, self);
     } else {
-      throw FilterError(prefix() + "model '" + who + "' returned a " + v.tagKind() +
+      throw FilterError(prefix() + "model '" + self.model_path() + "' returned a " + v.tagKind() +
                         "; only tensors and tuples/lists of tensors are supported");
     }
   }
 
+  std::string model_path() const {
+    std::lock_guard<std::mutex> lk(module_mu_);
+    return path_;
+  }
+
   std::vector<at::Tensor> run(std::vector<c10::IValue> feeds, const nns_tensors_desc &info) {
     std::shared_ptr<torch::jit::Module> m;
-    std::string path;
     {
       std::lock_guard<std::mutex> lk(module_mu_);
       m = module_;
-      path = path_;
     }
     if (device_.is_cuda())
       for (auto &f : feeds) f = f.toTensor().to(device_);
@@ -479,12 +489,12 @@ class TorchBackend final : public FilterBackend {
       std::string ins;
       for (uint32_t i = 0; i < info.num_tensors; ++i)
         ins += (i ? ", " : "") + desc_to_string(info.tensors[i]);
-      throw FilterError(
-          prefix() + "model '" + path + "' failed on input [" + ins + "]: " + torch_message(e),
-          -EIO);
+      throw FilterError(prefix() + "model '" + model_path() + "' failed on input [" + ins +
+                            "]: " + torch_message(e),
+                        -EIO);
     }
     std::vector<at::Tensor> out;
-    flatten(result, out, path);
+    flatten(result, out, *this);
     return out;
   }
 
@@ -500,20 +510,22 @@ class TorchBackend final : public FilterBackend {
     const nns_tensor_desc *want = have_out_ && i < out_.num_tensors ? &out_.tensors[i] : nullptr;
     if (want &&
         (type != want->type || static_cast<uint64_t>(t.numel()) != backend::desc_elements(*want)))
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(i) +
-                        " is " + backend::type_name(type) + " " + shape_str(t.sizes()) + " (" +
-                        std::to_string(t.numel()) + " elements), but output=/outputtype= say " +
-                        desc_to_string(*want) + " (" +
+      throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
+                        std::to_string(i) + " is " + backend::type_name(type) + " " +
+                        shape_str(t.sizes()) + " (" + std::to_string(t.numel()) +
+                        " elements), but output=/outputtype= say " + desc_to_string(*want) + " (" +
                         std::to_string(backend::desc_elements(*want)) + " elements)");
     if (t.nbytes() != size)
-      throw FilterError(prefix() + "model '" + path_ + "': output tensor #" + std::to_string(i) +
-                        " " + shape_str(t.sizes()) + " has " + std::to_string(t.nbytes()) +
-                        " bytes, but the output buffer has " + std::to_string(size));
+      throw FilterError(prefix() + "model '" + model_path() + "': output tensor #" +
+                        std::to_string(i) + " " + shape_str(t.sizes()) + " has " +
+                        std::to_string(t.nbytes()) + " bytes, but the output buffer has " +
+                        std::to_string(size));
   }
 
   std::string path_;
   at::Device device_{at::kCPU};
-  std::mutex module_mu_;
+  bool optimize_ = true;  // custom OptimizeForInference
+  mutable std::mutex module_mu_;
   std::shared_ptr<torch::jit::Module> module_;
 
   nns_tensors_desc in_{}, out_{};
