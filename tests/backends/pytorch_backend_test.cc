@@ -532,6 +532,7 @@ TEST(PytorchBackendErrors, CustomOptions) {
     std::vector<GstTensorMemory> outs{{scores.data(), 10}};
     ASSERT_EQ(inst.invoke(ins, outs), 0) << inst.error();
     EXPECT_EQ(scores[9], 254) << opt;
+    EXPECT_EQ(stats_of(inst).optimized, std::string(opt).find("true") != std::string::npos) << opt;
   }
   {
     Props p = lenet_props();

@@ -296,7 +296,9 @@ class TorchBackend final : public FilterBackend {
 
   nns_pytorch_stats stats() {
     std::lock_guard<std::mutex> lk(stats_mu_);
-    return stats_;
+    nns_pytorch_stats s = stats_;
+    s.optimized = optimized_ ? 1 : 0;
+    return s;
   }
 
  private:
@@ -352,14 +354,27 @@ class TorchBackend final : public FilterBackend {
   }
 
   std::shared_ptr<torch::jit::Module> load(const std::string &path) {
+    std::shared_ptr<torch::jit::Module> m;
     try {
-      auto m = std::make_shared<torch::jit::Module>(torch::jit::load(path, device_));
+      m = std::make_shared<torch::jit::Module>(torch::jit::load(path, device_));
       m->eval();
-      return m;
     } catch (const std::exception &e) {
       throw FilterError(
           prefix() + "cannot load TorchScript model '" + path + "': " + torch_message(e), -EINVAL);
     }
+    if (optimize_) {
+      // torch.jit.freeze + optimize_for_inference: parameters become constants, conv weights are
+      // prepacked, methods inlined. A model that cannot be frozen (e.g. forward mutates an
+      // attribute) runs as loaded.
+      try {
+        torch::jit::Module frozen = torch::jit::freeze(*m);
+        *m = torch::jit::optimize_for_inference(frozen);
+        optimized_ = true;
+      } catch (const std::exception &) {
+        optimized_ = false;
+      }
+    }
+    return m;
   }
 
   Plan make_plan(const nns_tensor_desc &t, uint32_t idx) const {
@@ -524,7 +539,8 @@ class TorchBackend final : public FilterBackend {
 
   std::string path_;
   at::Device device_{at::kCPU};
-  bool optimize_ = true;  // custom OptimizeForInference
+  bool optimize_ = true;    // custom OptimizeForInference
+  bool optimized_ = false;  // the loaded module is frozen and optimized
   mutable std::mutex module_mu_;
   std::shared_ptr<torch::jit::Module> module_;
 

@@ -22,6 +22,7 @@ typedef struct {
   uint64_t input_copies;     /* input tensors copied before inference (always 0 on CPU) */
   uint64_t output_copies;    /* output tensors copied (into caller buffers, or cloned) */
   uint64_t output_zero_copy; /* output tensors handed over without a copy */
+  uint64_t optimized;        /* 1: the model runs frozen + optimize_for_inference */
 } nns_pytorch_stats;
 
 typedef int (*nns_filter_pytorch_get_stats_fn)(void *priv, nns_pytorch_stats *out);
