@@ -53,9 +53,78 @@ HWY_INLINE float ApplyScalar(float v, const Op &op, std::size_t j) {
   }
 }
 
+template <int K>
+HWY_INLINE VF OpK(VF v, VF c) {
+  if constexpr (K == 0) return hn::Add(v, c);
+  if constexpr (K == 1) return hn::Mul(v, c);
+  if constexpr (K == 2) return hn::Div(v, c);
+  return v;  // K == 3: no operation
+}
+
+template <int K>
+HWY_INLINE float OpScalar(float v, float c) {
+  if constexpr (K == 0) return v + c;
+  if constexpr (K == 1) return v * c;
+  if constexpr (K == 2) return v / c;
+  return v;
+}
+
+// Uniform constants and at most two operations known at compile time: a straight-line loop,
+// unrolled by two vectors, with the constants broadcast once.
+template <typename In, int K0, int K1>
+HWY_NOINLINE void ArithUniform2(const In *HWY_RESTRICT in, float *HWY_RESTRICT out,
+                                std::size_t n, float c0, float c1) {
+  const DF df;
+  const std::size_t N = hn::Lanes(df);
+  const VF v0 = hn::Set(df, c0), v1 = hn::Set(df, c1);
+  std::size_t i = 0;
+  for (; i + 2 * N <= n; i += 2 * N) {
+    VF a = LoadF32(df, in + i), b = LoadF32(df, in + i + N);
+    a = OpK<K1>(OpK<K0>(a, v0), v1);
+    b = OpK<K1>(OpK<K0>(b, v0), v1);
+    hn::StoreU(a, df, out + i);
+    hn::StoreU(b, df, out + i + N);
+  }
+  for (; i + N <= n; i += N) hn::StoreU(OpK<K1>(OpK<K0>(LoadF32(df, in + i), v0), v1), df, out + i);
+  for (; i < n; ++i) out[i] = OpScalar<K1>(OpScalar<K0>(static_cast<float>(in[i]), c0), c1);
+}
+
+template <typename In, int K0>
+void Uniform2Second(const In *in, float *out, std::size_t n, int k1, float c0, float c1) {
+  switch (k1) {
+    case 0:
+      return ArithUniform2<In, K0, 0>(in, out, n, c0, c1);
+    case 1:
+      return ArithUniform2<In, K0, 1>(in, out, n, c0, c1);
+    case 2:
+      return ArithUniform2<In, K0, 2>(in, out, n, c0, c1);
+    default:
+      return ArithUniform2<In, K0, 3>(in, out, n, c0, c1);
+  }
+}
+
+template <typename In>
+void Uniform2(const In *in, float *out, std::size_t n, int k0, int k1, float c0, float c1) {
+  switch (k0) {
+    case 0:
+      return Uniform2Second<In, 0>(in, out, n, k1, c0, c1);
+    case 1:
+      return Uniform2Second<In, 1>(in, out, n, k1, c0, c1);
+    case 2:
+      return Uniform2Second<In, 2>(in, out, n, k1, c0, c1);
+    default:
+      return Uniform2Second<In, 3>(in, out, n, k1, c0, c1);
+  }
+}
+
 template <typename In>
 HWY_NOINLINE void ArithChain(const In *HWY_RESTRICT in, float *HWY_RESTRICT out, std::size_t n,
                              const Op *ops, std::size_t nops, std::size_t period) {
+  if (period == 0 && nops <= 2) {  // the common case: straight-line code
+    int k0 = nops > 0 ? ops[0].kind : 3, k1 = nops > 1 ? ops[1].kind : 3;
+    float c0 = nops > 0 ? ops[0].value : 0.0f, c1 = nops > 1 ? ops[1].value : 0.0f;
+    return Uniform2(in, out, n, k0, k1, c0, c1);
+  }
   const DF df;
   const std::size_t N = hn::Lanes(df);
   const std::size_t chunk = period ? period : n;
