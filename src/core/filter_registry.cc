@@ -8,11 +8,11 @@
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 
 #include "core/error.h"
+#include "core/nns_conf.h"
 #include "core/tensor_info.h"
 
 namespace nns {
@@ -20,70 +20,28 @@ namespace {
 
 constexpr const char *kPrefix = "libnnstreamer_filter_";
 constexpr const char *kSuffix = ".so";
-constexpr const char *kDefaultConf = "/etc/nnstreamer.ini";
-#ifdef NNS_INSTALL_SUBPLUGIN_DIR
-constexpr const char *kDefaultFilterDir = NNS_INSTALL_SUBPLUGIN_DIR "/filters";
-#else
-constexpr const char *kDefaultFilterDir = "/usr/lib/nnstreamer/filters";
-#endif
 
 std::string lower(std::string s) {
   for (char &c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 
-bool truthy(const std::string &v) {
-  std::string l = lower(trim(v));
-  return l == "1" || l == "true" || l == "yes" || l == "on";
-}
-
-// Minimal nnstreamer.ini reader: [group] key=value, '#' and ';' comments.
-// TODO(filter): replace with nns::Conf (src/core/nns_conf.h) once it is on main.
-class IniFilterConf final : public FilterConf {
+// The registry's view of nns::Conf (nnstreamer.ini + environment).
+class ConfView final : public FilterConf {
  public:
-  IniFilterConf() {
-    const char *env = std::getenv("NNSTREAMER_CONF");
-    std::string path = env && *env ? env : kDefaultConf;
-    std::ifstream f(path);
-    std::string line, group;
-    while (std::getline(f, line)) {
-      std::string t = trim(line);
-      if (t.empty() || t[0] == '#' || t[0] == ';') continue;
-      if (t.front() == '[' && t.back() == ']') {
-        group = lower(trim(t.substr(1, t.size() - 2)));
-        continue;
-      }
-      auto eq = t.find('=');
-      if (eq == std::string::npos) continue;
-      values_[group + "\n" + lower(trim(t.substr(0, eq)))] = trim(t.substr(eq + 1));
-    }
-    std::string envvar = value("common", "enable_envvar");
-    bool use_env = envvar.empty() || truthy(envvar);
-    if (use_env) {
-      if (const char *d = std::getenv("NNSTREAMER_FILTERS"))
-        for (auto &p : split(d, ":,;")) add_dir(p);
-    }
-    for (auto &p : split(value("filter", "filters"), ":,;")) add_dir(p);
-    add_dir(kDefaultFilterDir);
+  explicit ConfView(const Conf &c) : c_(c) {}
+  std::vector<std::string> filter_dirs() const override {
+    return c_.subplugin_dirs(SubpluginKind::kFilter);
   }
-  std::vector<std::string> filter_dirs() const override { return dirs_; }
   std::vector<std::string> framework_priority(const std::string &ext) const override {
-    return split(value("filter", "framework_priority_" + lower(ext)), ",");
+    return c_.framework_priority(ext);
   }
   std::string value(const std::string &group, const std::string &key) const override {
-    auto it = values_.find(lower(group) + "\n" + lower(key));
-    return it == values_.end() ? std::string() : it->second;
+    return c_.value(group, key).value_or("");
   }
 
  private:
-  void add_dir(const std::string &d) {
-    if (d.empty()) return;
-    std::string p = d;
-    while (p.size() > 1 && p.back() == '/') p.pop_back();
-    if (std::find(dirs_.begin(), dirs_.end(), p) == dirs_.end()) dirs_.push_back(p);
-  }
-  std::map<std::string, std::string> values_;
-  std::vector<std::string> dirs_;
+  const Conf &c_;
 };
 
 bool is_file(const std::string &p) {
@@ -135,7 +93,9 @@ std::vector<std::string> defaults_for_ext(const std::string &ext) {
 
 }  // namespace
 
-std::unique_ptr<FilterConf> current_filter_conf() { return std::make_unique<IniFilterConf>(); }
+std::unique_ptr<FilterConf> current_filter_conf() {
+  return std::make_unique<ConfView>(Conf::get());
+}
 
 void validate_backend_table(const nns_filter_backend_i *t, const std::string &origin) {
   if (!t) fail(ErrorKind::kLibrary, origin + ": nns_filter_backend_entry() returned NULL");

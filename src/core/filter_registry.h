@@ -36,9 +36,8 @@ class FilterConf {
   virtual std::string value(const std::string &group, const std::string &key) const = 0;
 };
 
-// The configuration as it is now: NNSTREAMER_CONF (or /etc/nnstreamer.ini) and the
-// NNSTREAMER_FILTERS environment variable. Read on every call (cheap; only used when a
-// filter opens), so tests may point NNSTREAMER_CONF at another file between pipelines.
+// The process configuration (nns::Conf::get(): nnstreamer.ini + NNSTREAMER_* environment).
+// Call nns::Conf::reload() after changing NNSTREAMER_CONF to make filters see the new file.
 std::unique_ptr<FilterConf> current_filter_conf();
 
 struct BackendRef {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/nns_conf.h"
 #include "support/harness.h"
 #include "tensor_filter_custom_easy.h"
 
@@ -80,12 +81,14 @@ class ScopedEnv {
       old_ = old;
     }
     setenv(name, value.c_str(), 1);
+    nns::Conf::reload();
   }
   ~ScopedEnv() {
     if (had_)
       setenv(name_, old_.c_str(), 1);
     else
       unsetenv(name_);
+    nns::Conf::reload();
   }
 
  private:
