@@ -101,7 +101,9 @@ TEST(TensorFilter, CustomEasyPassesInputPointerUnchanged) {
   gst_buffer_unref(in);
   GstCaps *caps = gst_pad_get_current_caps(fh.h->sinkpad);
   ASSERT_NE(caps, nullptr);
-  auto s = std::string(gst_caps_to_string(caps));
+  gchar *cs = gst_caps_to_string(caps);
+  std::string s = cs;
+  g_free(cs);
   EXPECT_NE(s.find("uint8"), std::string::npos) << s;
   gst_caps_unref(caps);
 }
