@@ -166,8 +166,9 @@ int main(int argc, char **argv) {
   std::vector<std::string> d = {
       src + "fakesink sync=false",
       src + "tensor_filter framework=custom-easy model=bench_pass ! fakesink sync=false",
-      src + "tensor_filter framework=custom-easy model=bench_pass latency=1 throughput=1 ! "
-            "fakesink sync=false",
+      src +
+          "tensor_filter framework=custom-easy model=bench_pass latency=1 throughput=1 ! "
+          "fakesink sync=false",
   };
   std::vector<std::vector<double>> t(d.size());
   for (int r = 0; r < runs; ++r)
@@ -179,14 +180,16 @@ int main(int argc, char **argv) {
   double base = median(t[0]), plain = median(t[1]), prof = median(t[2]);
   std::printf("filter overhead, %d buffers of uint8 4:1:1:1, median of %d runs\n", n, runs);
   std::printf("  fakesrc ! capsfilter ! fakesink          : %.3f us/buffer\n", base * 1e6 / n);
-  std::printf("  + tensor_filter custom-easy pass-through : %.3f us/buffer (+%.3f us; target <= 2)\n",
-              plain * 1e6 / n, (plain - base) * 1e6 / n);
+  std::printf(
+      "  + tensor_filter custom-easy pass-through : %.3f us/buffer (+%.3f us; target <= 2)\n",
+      plain * 1e6 / n, (plain - base) * 1e6 / n);
   std::printf("  + same with latency=1 throughput=1       : %.3f us/buffer (+%.3f us)\n",
               prof * 1e6 / n, (prof - base) * 1e6 / n);
 
   zero_copy_check(200);
-  std::printf("input zero-copy (3:224:224:1 uint8, 200 frames): %ld of %ld invokes saw a copy "
-              "(target 0)\n",
-              g_copied.load(), g_checked.load());
+  std::printf(
+      "input zero-copy (3:224:224:1 uint8, 200 frames): %ld of %ld invokes saw a copy "
+      "(target 0)\n",
+      g_copied.load(), g_checked.load());
   return 0;
 }

@@ -43,8 +43,7 @@ typedef int (*NNS_custom_set_input_dimension)(void *private_data,
                                               GstTensorsInfo *out_info);
 typedef int (*NNS_custom_invoke)(void *private_data, const GstTensorFilterProperties *prop,
                                  const GstTensorMemory *input, GstTensorMemory *output);
-typedef int (*NNS_custom_allocate_invoke)(void *private_data,
-                                          const GstTensorFilterProperties *prop,
+typedef int (*NNS_custom_allocate_invoke)(void *private_data, const GstTensorFilterProperties *prop,
                                           const GstTensorMemory *input, GstTensorMemory *output);
 typedef void (*NNS_custom_destroy_notify)(void *data);
 

@@ -47,7 +47,9 @@ tensor_filter_cpp::tensor_filter_cpp(const char *modelName)
 
 tensor_filter_cpp::~tensor_filter_cpp() = default;
 
-bool tensor_filter_cpp::isValid() { return validity == kValidity; }
+bool tensor_filter_cpp::isValid() {
+  return validity == kValidity;
+}
 
 int tensor_filter_cpp::__register(tensor_filter_cpp *filter, unsigned int ref_count) {
   if (!filter || !filter->isValid() || !filter->name || !*filter->name) return -EINVAL;
@@ -102,8 +104,9 @@ int cpp_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
     void *h = dlopen(lib.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!h) {
       const char *e = dlerror();
-      return set_err(err, len, "cannot load '" + lib + "' for cpp filter '" + name + "': " +
-                                   (e ? e : "unknown dlopen error"));
+      return set_err(err, len,
+                     "cannot load '" + lib + "' for cpp filter '" + name +
+                         "': " + (e ? e : "unknown dlopen error"));
     }
     {
       std::lock_guard lk(g_mu);
@@ -117,9 +120,10 @@ int cpp_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
       std::lock_guard lk(g_mu);
       for (auto &[n, e] : registry()) known += (known.empty() ? "" : ", ") + n;
     }
-    return set_err(err, len, "cpp filter '" + name + "' is not registered (registered: " +
-                                 (known.empty() ? "none" : known) +
-                                 "); call _register() on the object first", -ENOENT);
+    return set_err(err, len,
+                   "cpp filter '" + name + "' is not registered (registered: " +
+                       (known.empty() ? "none" : known) + "); call _register() on the object first",
+                   -ENOENT);
   }
   auto c = std::make_unique<CppPriv>();
   c->name = name;
@@ -178,8 +182,8 @@ int cpp_set_input(void *priv, const nns_tensors_desc *in, nns_tensors_desc *out,
   gst_info_clear(&gi);
   gst_info_clear(&go);
   if (rc != 0)
-    return set_err(err, len, "cpp filter '" + c->name + "': setInputDim returned " +
-                                 std::to_string(rc));
+    return set_err(err, len,
+                   "cpp filter '" + c->name + "': setInputDim returned " + std::to_string(rc));
   return 0;
 }
 
@@ -204,8 +208,8 @@ int cpp_invoke(void *priv, const GstTensorMemory *in, uint32_t, GstTensorMemory 
     }
   }
   if (rc < 0)
-    return set_err(err, len, "cpp filter '" + c->name + "' invoke returned " +
-                                 std::to_string(rc), rc);
+    return set_err(err, len, "cpp filter '" + c->name + "' invoke returned " + std::to_string(rc),
+                   rc);
   return rc;
 }
 

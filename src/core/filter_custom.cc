@@ -37,8 +37,9 @@ int custom_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
   c->dl = dlopen(c->path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!c->dl) {
     const char *e = dlerror();
-    return set_err(err, len, "cannot load custom filter '" + c->path + "': " +
-                                 (e ? e : "unknown dlopen error"));
+    return set_err(
+        err, len,
+        "cannot load custom filter '" + c->path + "': " + (e ? e : "unknown dlopen error"));
   }
   auto close_dl = [&](const std::string &msg) {
     dlclose(c->dl);
@@ -93,8 +94,9 @@ int custom_model_info(void *priv, nns_tensors_desc *in, nns_tensors_desc *out, c
   gst_info_clear(&gi);
   gst_info_clear(&go);
   if (rc != 0)
-    return set_err(err, len, "custom filter '" + c->path + "': getInputDim/getOutputDim returned " +
-                                 std::to_string(rc));
+    return set_err(
+        err, len,
+        "custom filter '" + c->path + "': getInputDim/getOutputDim returned " + std::to_string(rc));
   return 0;
 }
 
@@ -114,8 +116,8 @@ int custom_set_input(void *priv, const nns_tensors_desc *in, nns_tensors_desc *o
   gst_info_clear(&gi);
   gst_info_clear(&go);
   if (rc != 0)
-    return set_err(err, len, "custom filter '" + c->path + "': setInputDim returned " +
-                                 std::to_string(rc));
+    return set_err(err, len,
+                   "custom filter '" + c->path + "': setInputDim returned " + std::to_string(rc));
   return 0;
 }
 
@@ -141,8 +143,8 @@ int custom_invoke(void *priv, const GstTensorMemory *in, uint32_t, GstTensorMemo
     }
   }
   if (rc < 0)
-    return set_err(err, len, "custom filter '" + c->path + "' invoke returned " +
-                                 std::to_string(rc), rc);
+    return set_err(err, len,
+                   "custom filter '" + c->path + "' invoke returned " + std::to_string(rc), rc);
   return rc;
 }
 

@@ -24,7 +24,7 @@ struct EasyModel {
   NNS_custom_invoke_dynamic dyn = nullptr;
   void *data = nullptr;
   std::unique_ptr<nns_tensors_desc> in, out;  // out empty for dynamic models
-  int users = 0;                               // guarded by g_mu
+  int users = 0;                              // guarded by g_mu
 };
 
 std::mutex g_mu;
@@ -66,10 +66,11 @@ int easy_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
     if (it == models().end()) {
       std::string known;
       for (auto &[n, v] : models()) known += (known.empty() ? "" : ", ") + n;
-      return set_err(err, len, "custom-easy model '" + name +
-                                   "' is not registered (registered: " +
-                                   (known.empty() ? "none" : known) +
-                                   "); call NNS_custom_easy_register() first", -ENOENT);
+      return set_err(err, len,
+                     "custom-easy model '" + name +
+                         "' is not registered (registered: " + (known.empty() ? "none" : known) +
+                         "); call NNS_custom_easy_register() first",
+                     -ENOENT);
     }
     m = it->second;
     ++m->users;
@@ -107,25 +108,26 @@ int easy_invoke(void *priv, const GstTensorMemory *in, uint32_t, GstTensorMemory
                 char *err, size_t len) {
   auto *e = static_cast<EasyPriv *>(priv);
   if (!e->model->func)
-    return set_err(err, len, "custom-easy model '" + e->name +
-                                 "' was registered with NNS_custom_easy_dynamic_register(); "
-                                 "use invoke-dynamic=true");
+    return set_err(err, len,
+                   "custom-easy model '" + e->name +
+                       "' was registered with NNS_custom_easy_dynamic_register(); "
+                       "use invoke-dynamic=true");
   int rc = e->model->func(e->model->data, e->props->get(), in, out);
   if (rc < 0)
-    return set_err(err, len, "custom-easy function '" + e->name + "' returned " +
-                                 std::to_string(rc), rc);
+    return set_err(err, len,
+                   "custom-easy function '" + e->name + "' returned " + std::to_string(rc), rc);
   return rc;
 }
 
 int easy_invoke_dynamic(void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
-                        nns_tensors_desc *out_info, GstTensorMemory *out, char *err,
-                        size_t len) {
+                        nns_tensors_desc *out_info, GstTensorMemory *out, char *err, size_t len) {
   auto *e = static_cast<EasyPriv *>(priv);
   if (!e->model->dyn)
-    return set_err(err, len, "custom-easy model '" + e->name +
-                                 "' was registered with NNS_custom_easy_register(), which has "
-                                 "fixed outputs; use NNS_custom_easy_dynamic_register() for "
-                                 "invoke-dynamic=true");
+    return set_err(err, len,
+                   "custom-easy model '" + e->name +
+                       "' was registered with NNS_custom_easy_register(), which has "
+                       "fixed outputs; use NNS_custom_easy_dynamic_register() for "
+                       "invoke-dynamic=true");
   GstTensorsInfo gi, go;
   gst_info_from_desc(*in_info, &gi);
   gst_info_init(&go);
@@ -134,12 +136,15 @@ int easy_invoke_dynamic(void *priv, const nns_tensors_desc *in_info, const GstTe
   gst_info_clear(&gi);
   gst_info_clear(&go);
   if (rc != 0)
-    return set_err(err, len, "custom-easy function '" + e->name + "' returned " +
-                                 std::to_string(rc), rc < 0 ? rc : -EINVAL);
+    return set_err(err, len,
+                   "custom-easy function '" + e->name + "' returned " + std::to_string(rc),
+                   rc < 0 ? rc : -EINVAL);
   return 0;
 }
 
-void easy_free_output(void *, void *data) { std::free(data); }
+void easy_free_output(void *, void *data) {
+  std::free(data);
+}
 
 }  // namespace
 

@@ -16,8 +16,8 @@ std::unique_ptr<nns_tensors_desc> new_desc() {
 
 void desc_from_info(const TensorsInfo &info, nns_tensors_desc &out) {
   if (info.size() > NNS_TENSOR_SIZE_LIMIT)
-    fail(ErrorKind::kSettings, "too many tensors: " + std::to_string(info.size()) +
-                                   " (at most " + std::to_string(NNS_TENSOR_SIZE_LIMIT) + ")");
+    fail(ErrorKind::kSettings, "too many tensors: " + std::to_string(info.size()) + " (at most " +
+                                   std::to_string(NNS_TENSOR_SIZE_LIMIT) + ")");
   out.num_tensors = static_cast<uint32_t>(info.size());
   out.format = static_cast<uint32_t>(info.format);
   for (std::size_t i = 0; i < info.size(); ++i) {
@@ -107,8 +107,8 @@ void gst_info_from_desc(const nns_tensors_desc &desc, GstTensorsInfo *out) {
 }
 
 void desc_from_gst_info(const GstTensorsInfo *info, nns_tensors_desc &out) {
-  unsigned n = info->num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT
-                                                         : info->num_tensors;
+  unsigned n =
+      info->num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT : info->num_tensors;
   out.num_tensors = n;
   out.format = static_cast<uint32_t>(info->format);
   for (unsigned i = 0; i < n; ++i) {

@@ -64,7 +64,9 @@ std::string shared_map_key(const std::string &key, const std::string &fw,
 
 }  // namespace
 
-FilterSession::~FilterSession() { be_->close(priv_); }
+FilterSession::~FilterSession() {
+  be_->close(priv_);
+}
 
 void FilterSession::free_output(void *data) {
   if (be_->free_output)
@@ -120,11 +122,11 @@ std::shared_ptr<FilterSession> FilterInstance::open_session(
   void *priv = nullptr;
   int rc = be_->open(&props.p, &priv, err, sizeof err);
   if (rc != 0) {
-    std::string cause = err[0] ? std::string(err)
-                               : "error " + std::to_string(rc) + " (" +
-                                     std::strerror(rc < 0 ? -rc : rc) + ")";
-    fail(ErrorKind::kLibrary, "framework '" + name_ + "' could not open model '" +
-                                  join_models(models) + "': " + cause);
+    std::string cause =
+        err[0] ? std::string(err)
+               : "error " + std::to_string(rc) + " (" + std::strerror(rc < 0 ? -rc : rc) + ")";
+    fail(ErrorKind::kLibrary,
+         "framework '" + name_ + "' could not open model '" + join_models(models) + "': " + cause);
   }
   ++open_count_;
   return std::make_shared<FilterSession>(be_, priv);
@@ -281,8 +283,8 @@ void FilterInstance::reload(const std::vector<std::string> &models) {
     }
     if (rc != -ENOTSUP)
       fail(ErrorKind::kLibrary, "framework '" + name_ + "' could not reload model '" +
-                                    join_models(models) + "': " +
-                                    (err[0] ? std::string(err) : std::strerror(-rc)));
+                                    join_models(models) +
+                                    "': " + (err[0] ? std::string(err) : std::strerror(-rc)));
   }
   // Open the new model first so a failure keeps the old one.
   auto fresh = open_session(models);

@@ -61,8 +61,7 @@ class FilterInstance {
   // Opens a new instance. Throws nns::Error naming framework, model and cause.
   static std::shared_ptr<FilterInstance> open(const BackendRef &be, const FilterOpenSpec &spec);
   // Same, but returns the instance already open for spec.shared_key + framework + models.
-  static std::shared_ptr<FilterInstance> acquire(const BackendRef &be,
-                                                 const FilterOpenSpec &spec);
+  static std::shared_ptr<FilterInstance> acquire(const BackendRef &be, const FilterOpenSpec &spec);
   // Number of instances currently alive for a shared key (tests, diagnostics).
   static std::size_t shared_use_count(const std::string &key);
 

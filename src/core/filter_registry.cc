@@ -78,14 +78,22 @@ bool is_tflite_alias(const std::string &n) {
 // NNStreamer's detection table (SPEC.md section 3) plus .onnx.
 std::vector<std::string> defaults_for_ext(const std::string &ext) {
   static const std::map<std::string, std::vector<std::string>> table = {
-      {"tflite", {"tensorflow-lite"}},   {"pb", {"tensorflow"}},
-      {"pt", {"pytorch"}},               {"dlc", {"snpe"}},
-      {"py", {"python3"}},               {"graph", {"movidius-ncsdk2"}},
-      {"ini", {"nntrainer"}},            {"circle", {"nnfw"}},
-      {"so", {"custom"}},                {"dylib", {"custom"}},
-      {"bin", {"openvino"}},             {"xml", {"openvino"}},
-      {"tvn", {"trix-engine"}},          {"nb", {"vivante"}},
-      {"gguf", {"llamacpp"}},            {"onnx", {"onnxruntime", "opencv"}},
+      {"tflite", {"tensorflow-lite"}},
+      {"pb", {"tensorflow"}},
+      {"pt", {"pytorch"}},
+      {"dlc", {"snpe"}},
+      {"py", {"python3"}},
+      {"graph", {"movidius-ncsdk2"}},
+      {"ini", {"nntrainer"}},
+      {"circle", {"nnfw"}},
+      {"so", {"custom"}},
+      {"dylib", {"custom"}},
+      {"bin", {"openvino"}},
+      {"xml", {"openvino"}},
+      {"tvn", {"trix-engine"}},
+      {"nb", {"vivante"}},
+      {"gguf", {"llamacpp"}},
+      {"onnx", {"onnxruntime", "opencv"}},
   };
   auto it = table.find(ext);
   return it == table.end() ? std::vector<std::string>{} : it->second;
@@ -101,8 +109,8 @@ void validate_backend_table(const nns_filter_backend_i *t, const std::string &or
   if (!t) fail(ErrorKind::kLibrary, origin + ": nns_filter_backend_entry() returned NULL");
   if (t->api_version != NNS_FILTER_BACKEND_API_VERSION)
     fail(ErrorKind::kLibrary,
-         origin + " was built for filter back-end API version " +
-             std::to_string(t->api_version) + ", but this nnstreamer-cpp needs version " +
+         origin + " was built for filter back-end API version " + std::to_string(t->api_version) +
+             ", but this nnstreamer-cpp needs version " +
              std::to_string(NNS_FILTER_BACKEND_API_VERSION) + "; rebuild the back end");
   if (!t->name || !*t->name) fail(ErrorKind::kLibrary, origin + ": back end has no name");
   if (!t->open || !t->close || !t->invoke)
@@ -143,8 +151,8 @@ const nns_filter_backend_i *FilterRegistry::load_file(const std::string &path) {
   auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
   if (!entry) {
     dlclose(h);
-    fail(ErrorKind::kLibrary, path + " is not a filter back end: it does not export " +
-                                  NNS_FILTER_BACKEND_ENTRY + "()");
+    fail(ErrorKind::kLibrary,
+         path + " is not a filter back end: it does not export " + NNS_FILTER_BACKEND_ENTRY + "()");
   }
   const nns_filter_backend_i *t = entry();
   try {
@@ -209,8 +217,7 @@ std::vector<std::string> FilterRegistry::auto_candidates(const std::vector<std::
 }
 
 BackendRef FilterRegistry::resolve(const std::string &framework,
-                                   const std::vector<std::string> &models,
-                                   const FilterConf &conf) {
+                                   const std::vector<std::string> &models, const FilterConf &conf) {
   std::string fw = trim(framework);
   bool is_auto = fw.empty() || fw == "auto";
   std::vector<std::string> cands;
@@ -235,10 +242,10 @@ BackendRef FilterRegistry::resolve(const std::string &framework,
   if (dirs.empty()) dirs = "(no folders configured)";
   std::string tried = files.size() == 1 ? "no " + files[0] : "none of " + join(files, ", ");
   if (is_auto)
-    fail(ErrorKind::kNotFound, "framework=auto: model '" + join(models, ",") + "' needs " +
-                                   (cands.size() == 1 ? "framework '" + cands[0] + "'"
-                                                      : "one of " + join(cands, ", ")) +
-                                   ", which is not available: " + tried + " in " + dirs);
+    fail(ErrorKind::kNotFound,
+         "framework=auto: model '" + join(models, ",") + "' needs " +
+             (cands.size() == 1 ? "framework '" + cands[0] + "'" : "one of " + join(cands, ", ")) +
+             ", which is not available: " + tried + " in " + dirs);
   fail(ErrorKind::kNotFound, "framework '" + fw + "' is not available: " + tried + " in " + dirs);
 }
 

@@ -59,8 +59,10 @@ void FilterStats::reset() {
 }
 
 void FilterStats::record(int64_t ns, bool latency, bool throughput) {
-  if (n_ == kRecent) sum_recent_ -= recent_[pos_];
-  else ++n_;
+  if (n_ == kRecent)
+    sum_recent_ -= recent_[pos_];
+  else
+    ++n_;
   recent_[pos_] = ns;
   sum_recent_ += ns;
   pos_ = (pos_ + 1) % kRecent;
@@ -124,13 +126,13 @@ void FilterEngine::check_model_shapes() {
   TensorsInfo pin = settings_.shared_key.empty() ? spec.input : make_open_spec(settings_).input;
   TensorsInfo pout = settings_.shared_key.empty() ? spec.output : make_open_spec(settings_).output;
   if (pin.size() && model_in_known_ && !pin.same_as(mi))
-    fail(ErrorKind::kNegotiation,
-         where() + ": input='" + settings_.input + "' inputtype='" + settings_.inputtype +
-             "' gives " + pin.to_string() + ", but the model's input is " + mi.to_string());
+    fail(ErrorKind::kNegotiation, where() + ": input='" + settings_.input + "' inputtype='" +
+                                      settings_.inputtype + "' gives " + pin.to_string() +
+                                      ", but the model's input is " + mi.to_string());
   if (pout.size() && model_out_known_ && !pout.same_as(mo))
-    fail(ErrorKind::kNegotiation,
-         where() + ": output='" + settings_.output + "' outputtype='" + settings_.outputtype +
-             "' gives " + pout.to_string() + ", but the model's output is " + mo.to_string());
+    fail(ErrorKind::kNegotiation, where() + ": output='" + settings_.output + "' outputtype='" +
+                                      settings_.outputtype + "' gives " + pout.to_string() +
+                                      ", but the model's output is " + mo.to_string());
   eff_in_known_ = pin.size() > 0 || model_in_known_;
   eff_in_ = pin.size() ? pin : mi;
   in_source_ = pin.size() ? "input=/inputtype= give" : "the model's input is";
@@ -230,17 +232,20 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
   in_flexible_ = in_cfg.info.format == TensorFormat::kFlexible;
   out_flexible_ = out_caps_cfg.info.format == TensorFormat::kFlexible;
   if (!in_flexible_ && !in_cfg.info.valid())
-    fail(ErrorKind::kNegotiation, where() + ": the input caps do not describe complete static "
-                                            "tensors: " + caps_to_string(incaps));
+    fail(ErrorKind::kNegotiation, where() +
+                                      ": the input caps do not describe complete static "
+                                      "tensors: " +
+                                      caps_to_string(incaps));
   frame_in_ = in_flexible_ ? TensorsInfo{} : in_cfg.info;
 
   if (invoke_dynamic_) {
     if (!out_flexible_)
-      fail(ErrorKind::kNegotiation, where() + ": invoke-dynamic=true produces flexible tensors, "
-                                              "but downstream accepts only " +
-                                              caps_to_string(outcaps));
-    model_in_ = in_flexible_ ? (eff_in_known_ ? eff_in_ : TensorsInfo{})
-                             : combi_.model_input(frame_in_);
+      fail(ErrorKind::kNegotiation, where() +
+                                        ": invoke-dynamic=true produces flexible tensors, "
+                                        "but downstream accepts only " +
+                                        caps_to_string(outcaps));
+    model_in_ =
+        in_flexible_ ? (eff_in_known_ ? eff_in_ : TensorsInfo{}) : combi_.model_input(frame_in_);
     model_out_ = TensorsInfo{};
     frame_out_ = TensorsInfo{};
     frame_out_.format = TensorFormat::kFlexible;
@@ -248,11 +253,11 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
     if (!in_flexible_) {
       model_in_ = combi_.model_input(frame_in_);
       if (eff_in_known_ && !model_in_.same_as(eff_in_))
-        fail(ErrorKind::kNegotiation,
-             where() + ": the input stream " +
-                 (combi_.in_defined ? "(after input-combination) " : "") + "has " +
-                 model_in_.to_string() + ", but " + in_source_ + " " +
-                 eff_in_.to_string() + "; caps: " + caps_to_string(incaps));
+        fail(ErrorKind::kNegotiation, where() + ": the input stream " +
+                                          (combi_.in_defined ? "(after input-combination) " : "") +
+                                          "has " + model_in_.to_string() + ", but " + in_source_ +
+                                          " " + eff_in_.to_string() +
+                                          "; caps: " + caps_to_string(incaps));
     } else {
       if (!eff_in_known_)
         fail(ErrorKind::kNegotiation,
@@ -271,9 +276,8 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
       model_out_ = eff_out_;
       if (told && computed.size() && !computed.same_as(eff_out_))
         fail(ErrorKind::kNegotiation, where() + ": for input " + model_in_.to_string() +
-                                          " the model produces " + computed.to_string() +
-                                          ", but " + out_source_ + " " +
-                                          eff_out_.to_string());
+                                          " the model produces " + computed.to_string() + ", but " +
+                                          out_source_ + " " + eff_out_.to_string());
     } else if (told && computed.valid()) {
       model_out_ = computed;
     } else {
@@ -283,9 +287,10 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
                "outputtype=");
     }
     if (combi_.out_defined && !combi_.out_in.empty() && in_flexible_ && !out_flexible_)
-      fail(ErrorKind::kNegotiation, where() + ": output-combination passes input tensors "
-                                              "through, which needs static input caps or "
-                                              "flexible output caps");
+      fail(ErrorKind::kNegotiation, where() +
+                                        ": output-combination passes input tensors "
+                                        "through, which needs static input caps or "
+                                        "flexible output caps");
     frame_out_ = in_flexible_ && !combi_.out_in.empty()
                      ? combi_.frame_output(TensorsInfo{}, model_out_)  // checked at runtime
                      : combi_.frame_output(frame_in_, model_out_);
@@ -334,16 +339,15 @@ bool FilterEngine::throttled(GstBuffer *inbuf) {
   prev_ts_ = cur;
   if (!GST_CLOCK_TIME_IS_VALID(prev) || !GST_CLOCK_TIME_IS_VALID(cur)) return false;
   throttling_accum_ += GST_CLOCK_DIFF(prev, cur);
-  GstClockTimeDiff delay =
-      std::max<GstClockTimeDiff>(static_cast<GstClockTimeDiff>(stats_.latency_us()) * 1000,
-                                 delay_set);
+  GstClockTimeDiff delay = std::max<GstClockTimeDiff>(
+      static_cast<GstClockTimeDiff>(stats_.latency_us()) * 1000, delay_set);
   if (throttling_accum_ < delay) {
     double rate = GST_BUFFER_DURATION_IS_VALID(inbuf)
                       ? static_cast<double>(GST_BUFFER_DURATION(inbuf)) / static_cast<double>(delay)
                       : 1.0;
-    gst_pad_push_event(GST_BASE_TRANSFORM_SINK_PAD(element_),
-                       gst_event_new_qos(GST_QOS_TYPE_OVERFLOW, rate, throttling_accum_ - delay,
-                                         cur));
+    gst_pad_push_event(
+        GST_BASE_TRANSFORM_SINK_PAD(element_),
+        gst_event_new_qos(GST_QOS_TYPE_OVERFLOW, rate, throttling_accum_ - delay, cur));
     return true;
   }
   throttling_accum_ = 0;
@@ -462,8 +466,8 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
         (k >= model_in_.size() || in_tm_[i].size != model_in_[k].byte_size()))
       fail(ErrorKind::kStream,
            where() + ": flexible input tensor " + std::to_string(i) + " has " +
-               std::to_string(in_tm_[i].size) + " bytes, but the model input " +
-               std::to_string(k) + " needs " +
+               std::to_string(in_tm_[i].size) + " bytes, but the model input " + std::to_string(k) +
+               " needs " +
                (k < model_in_.size() ? std::to_string(model_in_[k].byte_size()) + " (" +
                                            model_in_[k].to_string() + ")"
                                      : std::string("nothing (the model has fewer inputs)")));
@@ -523,8 +527,8 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
       if (!data) {
         if (rc == 0) {
           for (auto *m : outs) gst_memory_unref(m);
-          fail(ErrorKind::kLibrary, where() + ": the back end returned no data for output " +
-                                        std::to_string(o));
+          fail(ErrorKind::kLibrary,
+               where() + ": the back end returned no data for output " + std::to_string(o));
         }
         continue;
       }
@@ -542,8 +546,8 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
         outs.push_back(m);
       } else {
         auto *w = new WrappedOut{session, data};
-        outs.push_back(gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, data, size, 0, size, w,
-                                              free_wrapped));
+        outs.push_back(
+            gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, data, size, 0, size, w, free_wrapped));
       }
     }
   } else {

@@ -13,7 +13,9 @@ namespace nns::gst {
 namespace {
 
 uint32_t parse_index(const std::string &tok, const std::string &prop) {
-  if (tok.empty() || !std::all_of(tok.begin(), tok.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+  if (tok.empty() || !std::all_of(tok.begin(), tok.end(), [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c));
+      }))
     fail(ErrorKind::kSettings, prop + ": '" + tok + "' is not a tensor index");
   errno = 0;
   unsigned long v = std::strtoul(tok.c_str(), nullptr, 10);
@@ -69,7 +71,8 @@ TensorsInfo Combination::model_input(const TensorsInfo &frame) const {
   return r;
 }
 
-TensorsInfo Combination::frame_output(const TensorsInfo &frame, const TensorsInfo &model_out) const {
+TensorsInfo Combination::frame_output(const TensorsInfo &frame,
+                                      const TensorsInfo &model_out) const {
   if (!out_defined) return model_out;
   TensorsInfo r;
   r.format = model_out.format;
@@ -87,8 +90,7 @@ TensorsInfo Combination::frame_output(const TensorsInfo &frame, const TensorsInf
                                         std::to_string(model_out.size()) + " output(s)");
     r.tensors.push_back(model_out[o]);
   }
-  if (r.tensors.empty())
-    fail(ErrorKind::kSettings, "output-combination selects no tensor");
+  if (r.tensors.empty()) fail(ErrorKind::kSettings, "output-combination selects no tensor");
   return r;
 }
 
@@ -99,22 +101,22 @@ TensorsInfo parse_tensor_props(const std::string &dims, const std::string &types
   if (d.empty() && t.empty()) {
     if (!trim(names).empty()) {
       // Names alone are kept for back ends that select tensors by name.
-      for (auto &n : parse_names_list(names)) info.tensors.push_back(TensorInfo{n, TensorType::kEnd, {}});
+      for (auto &n : parse_names_list(names))
+        info.tensors.push_back(TensorInfo{n, TensorType::kEnd, {}});
     }
     return info;
   }
   if (d.empty())
-    fail(ErrorKind::kSettings, prefix + "type='" + t + "' is set but " + prefix +
-                                   "= (the dimensions) is not; set both");
+    fail(ErrorKind::kSettings,
+         prefix + "type='" + t + "' is set but " + prefix + "= (the dimensions) is not; set both");
   if (t.empty())
-    fail(ErrorKind::kSettings, prefix + "='" + d + "' is set but " + prefix +
-                                   "type= is not; set both");
+    fail(ErrorKind::kSettings,
+         prefix + "='" + d + "' is set but " + prefix + "type= is not; set both");
   auto dl = parse_dims_list(d, prefix);
   auto tl = parse_types_list(t, prefix + "type");
   if (dl.size() != tl.size())
-    fail(ErrorKind::kSettings, prefix + "= gives " + std::to_string(dl.size()) +
-                                   " tensor(s) but " + prefix + "type= gives " +
-                                   std::to_string(tl.size()));
+    fail(ErrorKind::kSettings, prefix + "= gives " + std::to_string(dl.size()) + " tensor(s) but " +
+                                   prefix + "type= gives " + std::to_string(tl.size()));
   auto nl = parse_names_list(names);
   if (!nl.empty() && nl.size() != dl.size())
     fail(ErrorKind::kSettings, prefix + "name= gives " + std::to_string(nl.size()) +
@@ -143,7 +145,7 @@ std::string layouts_string(const std::vector<tensor_layout> &l, std::size_t n) {
   std::string s;
   for (std::size_t i = 0; i < n; ++i) {
     tensor_layout x = i < l.size() ? l[i] : _NNS_LAYOUT_ANY;
-    const char *w = x == _NNS_LAYOUT_NHWC ? "NHWC"
+    const char *w = x == _NNS_LAYOUT_NHWC   ? "NHWC"
                     : x == _NNS_LAYOUT_NCHW ? "NCHW"
                     : x == _NNS_LAYOUT_NONE ? "NONE"
                                             : "ANY";
@@ -152,7 +154,9 @@ std::string layouts_string(const std::vector<tensor_layout> &l, std::size_t n) {
   return s;
 }
 
-std::vector<std::string> split_models(const std::string &model) { return split(model, ","); }
+std::vector<std::string> split_models(const std::string &model) {
+  return split(model, ",");
+}
 
 std::string ranks_string(const TensorsInfo &info) {
   std::string s;

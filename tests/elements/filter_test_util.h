@@ -18,18 +18,19 @@
 
 namespace nns::test {
 
-inline std::string filter_dir() { return NNS_TEST_FILTER_DIR; }
+inline std::string filter_dir() {
+  return NNS_TEST_FILTER_DIR;
+}
 
-inline std::string tensors_caps(const std::string &types, const std::string &dims,
-                                int num = 1) {
-  return "other/tensors,format=static,num_tensors=" + std::to_string(num) +
-         ",types=(string)\"" + types + "\",dimensions=(string)\"" + dims + "\",framerate=0/1";
+inline std::string tensors_caps(const std::string &types, const std::string &dims, int num = 1) {
+  return "other/tensors,format=static,num_tensors=" + std::to_string(num) + ",types=(string)\"" +
+         types + "\",dimensions=(string)\"" + dims + "\",framerate=0/1";
 }
 
 // fakesrc producing `n` zero-filled buffers of `bytes` bytes with the given tensor caps.
 inline std::string fake_source(std::size_t bytes, const std::string &caps, int n = 3) {
-  return "fakesrc num-buffers=" + std::to_string(n) + " sizetype=fixed sizemax=" +
-         std::to_string(bytes) + " filltype=zero ! " + caps + " ! ";
+  return "fakesrc num-buffers=" + std::to_string(n) +
+         " sizetype=fixed sizemax=" + std::to_string(bytes) + " filltype=zero ! " + caps + " ! ";
 }
 
 inline GstTensorsInfo gst_info(tensor_type type, std::initializer_list<uint32_t> dims) {

@@ -114,8 +114,8 @@ std::vector<uint8_t> push_pull(FilterHarness &fh, std::vector<std::vector<uint8_
 TEST(TensorFilterFramework, AutoUsesIniPriorityForExtension) {
   ScopedEnv conf("NNSTREAMER_CONF", test_ini("framework_priority_echo=nosuch,testecho\n"));
   std::string model = write_temp("m.echo", "x");
-  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) + "tensor_filter model=" +
-                        model + " ! fakesink");
+  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
+                        "tensor_filter model=" + model + " ! fakesink");
   EXPECT_TRUE(r.eos) << r.error_text;
 }
 
@@ -132,8 +132,8 @@ TEST(TensorFilterFramework, AutoOnnxListsCandidatesWhenMissing) {
 
 TEST(TensorFilterFramework, AutoUnknownExtensionAsksForFramework) {
   std::string model = write_temp("m.weird", "x");
-  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) + "tensor_filter model=" +
-                        model + " ! fakesink");
+  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
+                        "tensor_filter model=" + model + " ! fakesink");
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("cannot tell which framework reads model"), std::string::npos)
       << r.error_text;
@@ -150,8 +150,8 @@ TEST(TensorFilterFramework, TfliteAliasResolvesThroughSubpluginPriority) {
 TEST(TensorFilterFramework, TfliteAutoUsesFrameworkPriorityTflite) {
   ScopedEnv conf("NNSTREAMER_CONF", test_ini("framework_priority_tflite=testecho\n"));
   std::string model = write_temp("m.tflite", "x");
-  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) + "tensor_filter model=" +
-                        model + " ! fakesink");
+  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
+                        "tensor_filter model=" + model + " ! fakesink");
   EXPECT_TRUE(r.eos) << r.error_text;
 }
 
@@ -163,7 +163,8 @@ TEST(TensorFilterFramework, TfliteAliasDefaultsToArmnn) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("framework 'tensorflow-lite' is not available: none of "
                               "libnnstreamer_filter_tensorflow-lite.so, "
-                              "libnnstreamer_filter_armnn.so in " + filter_dir()),
+                              "libnnstreamer_filter_armnn.so in " +
+                              filter_dir()),
             std::string::npos)
       << r.error_text;
 }
@@ -193,9 +194,9 @@ TEST(TensorFilterFramework, SubPluginsListsLoadableBackends) {
 
 TEST(TensorFilterProps, WrongCustomKeyNamesKeyAndModel) {
   std::string model = write_temp("m.t", "1");
-  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
-                        "tensor_filter framework=nnstest custom=Bogus:3 model=" + model +
-                        " ! fakesink");
+  auto r =
+      run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
+                   "tensor_filter framework=nnstest custom=Bogus:3 model=" + model + " ! fakesink");
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("unknown custom option 'Bogus:3'"), std::string::npos)
       << r.error_text;
@@ -204,9 +205,9 @@ TEST(TensorFilterProps, WrongCustomKeyNamesKeyAndModel) {
 
 TEST(TensorFilterProps, InferenceErrorCarriesBackendText) {
   std::string model = write_temp("m.t", "1");
-  auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
-                        "tensor_filter framework=nnstest custom=fail:1 model=" + model +
-                        " ! fakesink");
+  auto r =
+      run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
+                   "tensor_filter framework=nnstest custom=fail:1 model=" + model + " ! fakesink");
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("simulated inference failure in nnstest"), std::string::npos)
       << r.error_text;
@@ -216,9 +217,11 @@ TEST(TensorFilterProps, InferenceErrorCarriesBackendText) {
 
 TEST(TensorFilterProps, AcceleratorAndLayoutsReachBackendAndReadBack) {
   std::string model = write_temp("m.t", "0 uint8 4");
-  FilterHarness fh("tensor_filter framework=nnstest accelerator=true:gpu,!cpu inputlayout=NHWC "
-                   "outputlayout=nchw model=" + model,
-                   tensors_caps("uint8", "4"));
+  FilterHarness fh(
+      "tensor_filter framework=nnstest accelerator=true:gpu,!cpu inputlayout=NHWC "
+      "outputlayout=nchw model=" +
+          model,
+      tensors_caps("uint8", "4"));
   EXPECT_EQ(g_last_accel, "true:gpu,!cpu");
   gchar *il = nullptr, *ol = nullptr, *ir = nullptr, *orr = nullptr;
   g_object_get(fh.element(), "inputlayout", &il, "outputlayout", &ol, "inputranks", &ir,
@@ -256,20 +259,21 @@ TEST(TensorFilterProps, BadPropertyValuesAreNamed) {
 TEST(TensorFilterProps, PropertyOverridesAreCheckedAgainstModelOutput) {
   std::string model = write_temp("m.t", "0 uint8 4");
   auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
-                        "tensor_filter framework=nnstest output=8 outputtype=uint8 model=" +
-                        model + " ! fakesink");
+                        "tensor_filter framework=nnstest output=8 outputtype=uint8 model=" + model +
+                        " ! fakesink");
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("uint8 8"), std::string::npos) << r.error_text;
-  EXPECT_NE(r.error_text.find("the model's output is 1 tensor(s): [0] uint8 4"),
-            std::string::npos)
+  EXPECT_NE(r.error_text.find("the model's output is 1 tensor(s): [0] uint8 4"), std::string::npos)
       << r.error_text;
 }
 
 TEST(TensorFilterProps, PropertiesDefineShapesForShapelessModel) {
   std::string model = write_temp("m.t", "2");
-  FilterHarness fh("tensor_filter framework=nnstest input=2:2 inputtype=uint8 output=2:2 "
-                   "outputtype=uint8 model=" + model,
-                   tensors_caps("uint8", "2:2"));
+  FilterHarness fh(
+      "tensor_filter framework=nnstest input=2:2 inputtype=uint8 output=2:2 "
+      "outputtype=uint8 model=" +
+          model,
+      tensors_caps("uint8", "2:2"));
   EXPECT_EQ(push_pull(fh, {{1, 2, 3, 4}}), (std::vector<uint8_t>{3, 4, 5, 6}));
 }
 
@@ -277,9 +281,11 @@ TEST(TensorFilterProps, PropertiesDefineShapesForShapelessModel) {
 
 TEST(TensorFilterProps, InputAndOutputCombination) {
   std::string model = write_temp("m.t", "10");
-  FilterHarness fh("tensor_filter framework=nnstest input-combination=1 "
-                   "output-combination=i0,o0 model=" + model,
-                   tensors_caps("uint8,uint8", "2,3", 2));
+  FilterHarness fh(
+      "tensor_filter framework=nnstest input-combination=1 "
+      "output-combination=i0,o0 model=" +
+          model,
+      tensors_caps("uint8,uint8", "2,3", 2));
   ASSERT_EQ(gst_harness_push(fh.h.get(), tensor_buffer({{1, 2}, {3, 4, 5}})), GST_FLOW_OK)
       << fh.error_text();
   GstBuffer *out = gst_harness_pull(fh.h.get());
@@ -313,16 +319,18 @@ TEST(TensorFilterProps, SharedKeySharesOneInstance) {
   auto r = run_pipeline(
       fake_source(4, tensors_caps("uint8", "4")) +
       "tee name=t ! queue ! tensor_filter framework=nnstest shared-tensor-filter-key=k1 model=" +
-      model + " ! fakesink t. ! queue ! tensor_filter framework=nnstest "
-              "shared-tensor-filter-key=k1 model=" + model + " ! fakesink");
+      model +
+      " ! fakesink t. ! queue ! tensor_filter framework=nnstest "
+      "shared-tensor-filter-key=k1 model=" +
+      model + " ! fakesink");
   EXPECT_TRUE(r.eos) << r.error_text;
   EXPECT_EQ(g_opens - before, 1);
   before = g_opens;
   r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
                    "tee name=t ! queue ! tensor_filter framework=nnstest "
-                   "shared-tensor-filter-key=k2 model=" + model +
-                   " ! fakesink t. ! queue ! tensor_filter framework=nnstest model=" + model +
-                   " ! fakesink");
+                   "shared-tensor-filter-key=k2 model=" +
+                   model + " ! fakesink t. ! queue ! tensor_filter framework=nnstest model=" +
+                   model + " ! fakesink");
   EXPECT_TRUE(r.eos) << r.error_text;
   EXPECT_EQ(g_opens - before, 2);
   EXPECT_EQ(nns::FilterInstance::shared_use_count("k1"), 0u);
@@ -336,10 +344,10 @@ TEST(TensorFilterProps, ReloadWhilePlayingWhenUpdatable) {
   g_object_set(fh.element(), "model", m2.c_str(), nullptr);
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{6, 6, 6, 6}));
   // The custom event of NNStreamer does the same.
-  GstStructure *st = gst_structure_new("evt_update_model", "model_files", G_TYPE_STRING,
-                                       m1.c_str(), nullptr);
-  EXPECT_TRUE(gst_harness_push_event(fh.h.get(),
-                                     gst_event_new_custom(GST_EVENT_CUSTOM_DOWNSTREAM, st)));
+  GstStructure *st =
+      gst_structure_new("evt_update_model", "model_files", G_TYPE_STRING, m1.c_str(), nullptr);
+  EXPECT_TRUE(
+      gst_harness_push_event(fh.h.get(), gst_event_new_custom(GST_EVENT_CUSTOM_DOWNSTREAM, st)));
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
   EXPECT_EQ(fh.error_text(), "");
 }
@@ -530,8 +538,7 @@ TEST(TensorFilterProps, FlexibleInputWithStaticModel) {
   gst_buffer_unref(out);
   // A flexible frame of the wrong size is an error that names both sizes.
   EXPECT_EQ(gst_harness_push(fh.h.get(), flex_buffer({1, 2}, 2)), GST_FLOW_ERROR);
-  EXPECT_NE(fh.error_text().find("has 2 bytes, but the model input 0 needs 3"),
-            std::string::npos);
+  EXPECT_NE(fh.error_text().find("has 2 bytes, but the model input 0 needs 3"), std::string::npos);
 }
 
 TEST(TensorFilterProps, InvokeDynamicNeedsSupportingFramework) {
@@ -548,8 +555,8 @@ TEST(TensorFilterProps, InvokeDynamicNeedsSupportingFramework) {
 
 TEST(TensorFilterProps, ConfigFileSetsProperties) {
   std::string model = write_temp("m.t", "7 uint8 4");
-  std::string cfg = write_temp("filter.conf", "# comment\nframework = nnstest\nmodel=" + model +
-                                                  "\nlatency=1\n");
+  std::string cfg =
+      write_temp("filter.conf", "# comment\nframework = nnstest\nmodel=" + model + "\nlatency=1\n");
   FilterHarness fh("tensor_filter config-file=" + cfg, tensors_caps("uint8", "4"));
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{8, 8, 8, 8}));
   gint latency = -5;
@@ -570,8 +577,7 @@ TEST(TensorFilterProps, ConfigFileProblemsAreReported) {
   r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
                    "tensor_filter config-file=/nonexistent.conf ! fakesink");
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("config-file '/nonexistent.conf' cannot be read"),
-            std::string::npos)
+  EXPECT_NE(r.error_text.find("config-file '/nonexistent.conf' cannot be read"), std::string::npos)
       << r.error_text;
 }
 
@@ -616,8 +622,7 @@ TEST(TensorFilterCpp, RegisteredClassRuns) {
   auto r = run_pipeline(fake_source(3, tensors_caps("uint8", "3")) +
                         "tensor_filter framework=cpp model=tf_cpp_doubler ! fakesink");
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("cpp filter 'tf_cpp_doubler' is not registered"),
-            std::string::npos)
+  EXPECT_NE(r.error_text.find("cpp filter 'tf_cpp_doubler' is not registered"), std::string::npos)
       << r.error_text;
 }
 

@@ -52,9 +52,8 @@ TEST(TensorFilter, DefaultsMatchUpstream) {
   guint suspend = 9;
   gboolean silent = FALSE, dyn = TRUE, upd = TRUE, rep = TRUE, async = TRUE;
   g_object_get(f, "framework", &fw, "sub-plugins", &sub, "model", &model, "latency", &latency,
-               "throughput", &throughput, "suspend", &suspend, "silent", &silent,
-               "invoke-dynamic", &dyn, "is-updatable", &upd, "latency-report", &rep,
-               "invoke-async", &async, nullptr);
+               "throughput", &throughput, "suspend", &suspend, "silent", &silent, "invoke-dynamic",
+               &dyn, "is-updatable", &upd, "latency-report", &rep, "invoke-async", &async, nullptr);
   EXPECT_STREQ(fw, "auto");
   EXPECT_STREQ(model, "");
   EXPECT_NE(std::string(sub).find("custom,custom-easy,cpp"), std::string::npos) << sub;
@@ -152,8 +151,7 @@ TEST(TensorFilter, CustomSharedObjectPassthrough) {
                    tensors_caps("float32", "10:1:1:1"));
   std::vector<uint8_t> bytes(40);
   for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<uint8_t>(i);
-  ASSERT_EQ(gst_harness_push(fh.h.get(), tensor_buffer({bytes})), GST_FLOW_OK)
-      << fh.error_text();
+  ASSERT_EQ(gst_harness_push(fh.h.get(), tensor_buffer({bytes})), GST_FLOW_OK) << fh.error_text();
   GstBuffer *out = gst_harness_pull(fh.h.get());
   ASSERT_NE(out, nullptr);
   EXPECT_EQ(memory_bytes(out, 0), bytes);
@@ -214,7 +212,8 @@ TEST(TensorFilter, UnknownFrameworkNamesTheMissingFileAndFolders) {
                         "tensor_filter framework=nosuchfw model=/etc/hostname ! fakesink");
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("framework 'nosuchfw' is not available: no "
-                              "libnnstreamer_filter_nosuchfw.so in " + filter_dir()),
+                              "libnnstreamer_filter_nosuchfw.so in " +
+                              filter_dir()),
             std::string::npos)
       << r.error_text;
 }
@@ -243,8 +242,7 @@ TEST(TensorFilter, BackendWithoutEntryPointIsAnError) {
 TEST(TensorFilter, LoadsBackendFromConfiguredFolder) {
   ScopedEnv conf("NNSTREAMER_CONF", test_ini());
   std::string model = write_temp("m.echo", "echo");
-  FilterHarness fh("tensor_filter framework=testecho model=" + model,
-                   tensors_caps("uint8", "3:2"));
+  FilterHarness fh("tensor_filter framework=testecho model=" + model, tensors_caps("uint8", "3:2"));
   ASSERT_EQ(gst_harness_push(fh.h.get(), tensor_buffer({{9, 8, 7, 6, 5, 4}})), GST_FLOW_OK)
       << fh.error_text();
   GstBuffer *out = gst_harness_pull(fh.h.get());

@@ -110,23 +110,40 @@ static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
 
 static std::string *string_prop(FilterSettings &s, guint id) {
   switch (id) {
-    case PROP_FRAMEWORK: return &s.framework;
-    case PROP_MODEL: return &s.model;
-    case PROP_INPUT: return &s.input;
-    case PROP_INPUTTYPE: return &s.inputtype;
-    case PROP_INPUTNAME: return &s.inputname;
-    case PROP_INPUTLAYOUT: return &s.inputlayout;
-    case PROP_OUTPUT: return &s.output;
-    case PROP_OUTPUTTYPE: return &s.outputtype;
-    case PROP_OUTPUTNAME: return &s.outputname;
-    case PROP_OUTPUTLAYOUT: return &s.outputlayout;
-    case PROP_CUSTOM: return &s.custom;
-    case PROP_ACCELERATOR: return &s.accelerator;
-    case PROP_INPUTCOMBINATION: return &s.input_combination;
-    case PROP_OUTPUTCOMBINATION: return &s.output_combination;
-    case PROP_SHARED_KEY: return &s.shared_key;
-    case PROP_CONFIG_FILE: return &s.config_file;
-    default: return nullptr;
+    case PROP_FRAMEWORK:
+      return &s.framework;
+    case PROP_MODEL:
+      return &s.model;
+    case PROP_INPUT:
+      return &s.input;
+    case PROP_INPUTTYPE:
+      return &s.inputtype;
+    case PROP_INPUTNAME:
+      return &s.inputname;
+    case PROP_INPUTLAYOUT:
+      return &s.inputlayout;
+    case PROP_OUTPUT:
+      return &s.output;
+    case PROP_OUTPUTTYPE:
+      return &s.outputtype;
+    case PROP_OUTPUTNAME:
+      return &s.outputname;
+    case PROP_OUTPUTLAYOUT:
+      return &s.outputlayout;
+    case PROP_CUSTOM:
+      return &s.custom;
+    case PROP_ACCELERATOR:
+      return &s.accelerator;
+    case PROP_INPUTCOMBINATION:
+      return &s.input_combination;
+    case PROP_OUTPUTCOMBINATION:
+      return &s.output_combination;
+    case PROP_SHARED_KEY:
+      return &s.shared_key;
+    case PROP_CONFIG_FILE:
+      return &s.config_file;
+    default:
+      return nullptr;
   }
 }
 
@@ -173,15 +190,33 @@ static void gst_tensor_filter_set_property(GObject *object, guint id, const GVal
       if (id == PROP_CONFIG_FILE) config_path = nv;
     } else {
       switch (id) {
-        case PROP_SILENT: s.silent = g_value_get_boolean(value); break;
-        case PROP_IS_UPDATABLE: s.is_updatable = g_value_get_boolean(value); break;
-        case PROP_LATENCY: s.latency_mode = g_value_get_int(value); break;
-        case PROP_THROUGHPUT: s.throughput_mode = g_value_get_int(value); break;
-        case PROP_LATENCY_REPORT: s.latency_report = g_value_get_boolean(value); break;
-        case PROP_INVOKE_DYNAMIC: s.invoke_dynamic = g_value_get_boolean(value); break;
-        case PROP_INVOKE_ASYNC: s.invoke_async = g_value_get_boolean(value); break;
-        case PROP_SUSPEND: s.suspend_ms = g_value_get_uint(value); break;
-        default: G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec); return;
+        case PROP_SILENT:
+          s.silent = g_value_get_boolean(value);
+          break;
+        case PROP_IS_UPDATABLE:
+          s.is_updatable = g_value_get_boolean(value);
+          break;
+        case PROP_LATENCY:
+          s.latency_mode = g_value_get_int(value);
+          break;
+        case PROP_THROUGHPUT:
+          s.throughput_mode = g_value_get_int(value);
+          break;
+        case PROP_LATENCY_REPORT:
+          s.latency_report = g_value_get_boolean(value);
+          break;
+        case PROP_INVOKE_DYNAMIC:
+          s.invoke_dynamic = g_value_get_boolean(value);
+          break;
+        case PROP_INVOKE_ASYNC:
+          s.invoke_async = g_value_get_boolean(value);
+          break;
+        case PROP_SUSPEND:
+          s.suspend_ms = g_value_get_uint(value);
+          break;
+        default:
+          G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+          return;
       }
     }
   }
@@ -202,8 +237,9 @@ static void set_info_string(GValue *value, const nns::TensorsInfo &info, const s
     g_value_set_string(value, user.c_str());
     return;
   }
-  std::string s = what == 0 ? info.dims_string() : what == 1 ? info.types_string()
-                                                             : info.names_string();
+  std::string s = what == 0   ? info.dims_string()
+                  : what == 1 ? info.types_string()
+                              : info.names_string();
   g_value_set_string(value, s.c_str());
 }
 
@@ -223,20 +259,35 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
     out = p->out_info;
   }
   switch (id) {
-    case PROP_SILENT: g_value_set_boolean(value, s.silent); break;
-    case PROP_INPUT: set_info_string(value, in, s.input, 0); break;
-    case PROP_INPUTTYPE: set_info_string(value, in, s.inputtype, 1); break;
-    case PROP_INPUTNAME: set_info_string(value, in, s.inputname, 2); break;
-    case PROP_OUTPUT: set_info_string(value, out, s.output, 0); break;
-    case PROP_OUTPUTTYPE: set_info_string(value, out, s.outputtype, 1); break;
-    case PROP_OUTPUTNAME: set_info_string(value, out, s.outputname, 2); break;
+    case PROP_SILENT:
+      g_value_set_boolean(value, s.silent);
+      break;
+    case PROP_INPUT:
+      set_info_string(value, in, s.input, 0);
+      break;
+    case PROP_INPUTTYPE:
+      set_info_string(value, in, s.inputtype, 1);
+      break;
+    case PROP_INPUTNAME:
+      set_info_string(value, in, s.inputname, 2);
+      break;
+    case PROP_OUTPUT:
+      set_info_string(value, out, s.output, 0);
+      break;
+    case PROP_OUTPUTTYPE:
+      set_info_string(value, out, s.outputtype, 1);
+      break;
+    case PROP_OUTPUTNAME:
+      set_info_string(value, out, s.outputname, 2);
+      break;
     case PROP_INPUTLAYOUT:
     case PROP_OUTPUTLAYOUT: {
       bool is_in = id == PROP_INPUTLAYOUT;
       const std::string &user = is_in ? s.inputlayout : s.outputlayout;
       std::size_t n = (is_in ? in : out).size();
-      g_value_set_string(value, n ? nns::gst::layouts_string(nns::gst::parse_layouts(user), n).c_str()
-                                  : user.c_str());
+      g_value_set_string(
+          value,
+          n ? nns::gst::layouts_string(nns::gst::parse_layouts(user), n).c_str() : user.c_str());
       break;
     }
     case PROP_INPUTRANKS:
@@ -265,17 +316,27 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
       g_value_set_string(value, list.c_str());
       break;
     }
-    case PROP_IS_UPDATABLE: g_value_set_boolean(value, s.is_updatable); break;
+    case PROP_IS_UPDATABLE:
+      g_value_set_boolean(value, s.is_updatable);
+      break;
     case PROP_LATENCY:
       g_value_set_int(value, s.latency_mode > 0 ? p->engine.stats().latency_us() : -1);
       break;
     case PROP_THROUGHPUT:
       g_value_set_int(value, s.throughput_mode > 0 ? p->engine.stats().throughput() : -1);
       break;
-    case PROP_LATENCY_REPORT: g_value_set_boolean(value, s.latency_report); break;
-    case PROP_INVOKE_DYNAMIC: g_value_set_boolean(value, s.invoke_dynamic); break;
-    case PROP_INVOKE_ASYNC: g_value_set_boolean(value, s.invoke_async); break;
-    case PROP_SUSPEND: g_value_set_uint(value, s.suspend_ms); break;
+    case PROP_LATENCY_REPORT:
+      g_value_set_boolean(value, s.latency_report);
+      break;
+    case PROP_INVOKE_DYNAMIC:
+      g_value_set_boolean(value, s.invoke_dynamic);
+      break;
+    case PROP_INVOKE_ASYNC:
+      g_value_set_boolean(value, s.invoke_async);
+      break;
+    case PROP_SUSPEND:
+      g_value_set_uint(value, s.suspend_ms);
+      break;
     default:
       if (std::string *str = string_prop(s, id)) {
         g_value_set_string(value, str->c_str());
@@ -337,8 +398,9 @@ static gboolean gst_tensor_filter_start(GstBaseTransform *trans) {
       s = p->settings;
     }
     if (s.invoke_async)
-      GST_INFO_OBJECT(self, "invoke-async=true: back ends here are synchronous; one output "
-                            "per input");
+      GST_INFO_OBJECT(self,
+                      "invoke-async=true: back ends here are synchronous; one output "
+                      "per input");
     p->last_caps_error.clear();
     {
       std::lock_guard lk(p->engine_mu);
@@ -361,9 +423,8 @@ static gboolean gst_tensor_filter_stop(GstBaseTransform *trans) {
   return TRUE;
 }
 
-static GstCaps *gst_tensor_filter_transform_caps(GstBaseTransform *trans,
-                                                 GstPadDirection direction, GstCaps *caps,
-                                                 GstCaps *filter) {
+static GstCaps *gst_tensor_filter_transform_caps(GstBaseTransform *trans, GstPadDirection direction,
+                                                 GstCaps *caps, GstCaps *filter) {
   auto *self = GST_TENSOR_FILTER(trans);
   GstCaps *result = nullptr;
   {
@@ -415,15 +476,14 @@ static gboolean gst_tensor_filter_set_caps(GstBaseTransform *trans, GstCaps *inc
 }
 
 static GstFlowReturn gst_tensor_filter_prepare_output_buffer(GstBaseTransform *trans,
-                                                             GstBuffer *inbuf,
-                                                             GstBuffer **outbuf) {
+                                                             GstBuffer *inbuf, GstBuffer **outbuf) {
   (void)trans;
   *outbuf = gst_buffer_new();
-  gst_buffer_copy_into(*outbuf, inbuf,
-                       static_cast<GstBufferCopyFlags>(GST_BUFFER_COPY_FLAGS |
-                                                       GST_BUFFER_COPY_TIMESTAMPS |
-                                                       GST_BUFFER_COPY_META),
-                       0, static_cast<gsize>(-1));
+  gst_buffer_copy_into(
+      *outbuf, inbuf,
+      static_cast<GstBufferCopyFlags>(GST_BUFFER_COPY_FLAGS | GST_BUFFER_COPY_TIMESTAMPS |
+                                      GST_BUFFER_COPY_META),
+      0, static_cast<gsize>(-1));
   return GST_FLOW_OK;
 }
 
@@ -447,8 +507,7 @@ static gboolean gst_tensor_filter_query(GstBaseTransform *trans, GstPadDirection
       report = p->settings.latency_report;
     }
     int estimated = p->engine.stats().latency_us();
-    if (report && estimated > 0 &&
-        gst_pad_peer_query(GST_BASE_TRANSFORM_SINK_PAD(trans), query)) {
+    if (report && estimated > 0 && gst_pad_peer_query(GST_BASE_TRANSFORM_SINK_PAD(trans), query)) {
       gboolean live;
       GstClockTime min, max;
       gst_query_parse_latency(query, &live, &min, &max);
@@ -598,8 +657,8 @@ static void gst_tensor_filter_class_init(GstTensorFilterClass *klass) {
   g_object_class_install_property(
       k, PROP_SUSPEND,
       g_param_spec_uint("suspend", "suspend",
-                        "Suspend (unload) the model after this many ms without data; 0: never",
-                        0, G_MAXUINT, 0,
+                        "Suspend (unload) the model after this many ms without data; 0: never", 0,
+                        G_MAXUINT, 0,
                         static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS)));
 
   gst_element_class_set_static_metadata(

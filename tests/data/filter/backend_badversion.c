@@ -11,7 +11,9 @@ static int bad_open(const nns_filter_props *p, void **priv, char *err, size_t le
   (void)len;
   return 0;
 }
-static void bad_close(void *priv) { (void)priv; }
+static void bad_close(void *priv) {
+  (void)priv;
+}
 static int bad_invoke(void *priv, const GstTensorMemory *in, uint32_t ni, GstTensorMemory *out,
                       uint32_t no, char *err, size_t len) {
   (void)priv;

@@ -26,8 +26,8 @@ static void sc_exit(void *priv, const GstTensorFilterProperties *prop) {
   free(priv);
 }
 
-static int sc_set_in(void *priv, const GstTensorFilterProperties *prop,
-                     const GstTensorsInfo *in, GstTensorsInfo *out) {
+static int sc_set_in(void *priv, const GstTensorFilterProperties *prop, const GstTensorsInfo *in,
+                     GstTensorsInfo *out) {
   sc_data *d = priv;
   (void)prop;
   if (in->num_tensors != 1 || in->info[0].type != _NNS_UINT8) return -22;
@@ -58,7 +58,9 @@ static int sc_invoke(void *priv, const GstTensorFilterProperties *prop,
   return 0;
 }
 
-static void sc_free(void *data) { free(data); }
+static void sc_free(void *data) {
+  free(data);
+}
 
 static NNStreamer_custom_class sc_class = {
     .initfunc = sc_init,
