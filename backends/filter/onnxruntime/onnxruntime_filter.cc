@@ -40,7 +40,8 @@ namespace {
 constexpr const char *kName = "onnxruntime";
 
 Ort::Env &ort_env() {
-  static Ort::Env env(ORT_LOGGING_LEVEL_WARNING, "nnstreamer-onnxruntime");
+  // Errors only: ORT warns about harmless model details (unused initializers).
+  static Ort::Env env(ORT_LOGGING_LEVEL_ERROR, "nnstreamer-onnxruntime");
   return env;
 }
 
