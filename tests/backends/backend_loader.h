@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "core/filter_desc.h"
+#include "core/backend_desc.h"
 #include "core/tensor_info.h"
 #include "nns_filter_backend.h"
 

@@ -31,7 +31,7 @@
 
 #include "core/custom_options.h"
 #include "core/error.h"
-#include "core/filter_desc.h"
+#include "core/backend_desc.h"
 #include "nns_filter_backend.hh"
 
 namespace nns {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-#include "core/filter_desc.h"
+#include "core/backend_desc.h"
 
 #include <cstring>
 

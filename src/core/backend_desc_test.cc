@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-#include "core/filter_desc.h"
+#include "core/backend_desc.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@ nns_tensor_desc make(uint32_t type, std::initializer_list<uint32_t> dims, const 
   return d;
 }
 
-TEST(FilterDesc, ShapeIsReversedDims) {
+TEST(BackendDesc, ShapeIsReversedDims) {
   auto d = make(_NNS_UINT8, {3, 224, 224, 1});
   EXPECT_EQ(shape_of(d, 4), (std::vector<int64_t>{1, 224, 224, 3}));
   // Rank 3 dims padded to a rank-4 model with leading 1.
@@ -28,7 +28,7 @@ TEST(FilterDesc, ShapeIsReversedDims) {
   EXPECT_THROW(shape_of(d, 2), Error);
 }
 
-TEST(FilterDesc, SetDimsFromShape) {
+TEST(BackendDesc, SetDimsFromShape) {
   nns_tensor_desc d{};
   set_dims(d, {1, 1001});
   EXPECT_EQ(d.dims[0], 1001u);
@@ -40,7 +40,7 @@ TEST(FilterDesc, SetDimsFromShape) {
   EXPECT_EQ(desc_rank(d), 1u);
 }
 
-TEST(FilterDesc, BytesAndStrings) {
+TEST(BackendDesc, BytesAndStrings) {
   auto d = make(_NNS_FLOAT32, {4, 3, 1}, "a");
   EXPECT_EQ(desc_bytes(d), 48u);
   EXPECT_EQ(desc_string(d), "'a' float32 4:3:1");
