@@ -64,6 +64,12 @@ std::string desc_string(const nns_tensor_desc &d) {
   return n ? "'" + std::string(d.name, n) + "' " + s : s;
 }
 
+std::string desc_dims_string(const nns_tensor_desc &d) {
+  Dims dims{};
+  std::memcpy(dims.data(), d.dims, sizeof(d.dims));
+  return dims_to_string(dims);
+}
+
 std::string shape_string(const std::vector<int64_t> &shape) {
   std::string s = "[";
   for (std::size_t i = 0; i < shape.size(); ++i) {

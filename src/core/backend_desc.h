@@ -26,6 +26,8 @@ std::size_t desc_rank(const nns_tensor_desc &d);
 bool desc_dims_equal(const nns_tensor_desc &a, const nns_tensor_desc &b);
 // "float32 4:3:1" / "'name' float32 4:3:1" when named.
 std::string desc_string(const nns_tensor_desc &d);
+// Dims alone: "4:3:1".
+std::string desc_dims_string(const nns_tensor_desc &d);
 // "[1,224,224,3]" with free dims printed as '?'.
 std::string shape_string(const std::vector<int64_t> &shape);
 void set_name(nns_tensor_desc &d, const std::string &name);

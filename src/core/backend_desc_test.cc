@@ -44,6 +44,7 @@ TEST(BackendDesc, BytesAndStrings) {
   auto d = make(_NNS_FLOAT32, {4, 3, 1}, "a");
   EXPECT_EQ(desc_bytes(d), 48u);
   EXPECT_EQ(desc_string(d), "'a' float32 4:3:1");
+  EXPECT_EQ(desc_dims_string(d), "4:3:1");
   EXPECT_TRUE(desc_dims_equal(d, make(_NNS_UINT8, {4, 3})));
   EXPECT_FALSE(desc_dims_equal(d, make(_NNS_UINT8, {3, 4})));
   EXPECT_EQ(shape_string({-1, 3}), "[?,3]");
