@@ -255,18 +255,19 @@ class Python3Filter final : public FilterBackend {
   }
 
   void run(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out, uint32_t num_out) {
-    const std::string where = "Python script '" + path_ + "': ";
+    // Messages are built on error paths only: no allocation per invoke.
+    auto where = [this] { return "Python script '" + path_ + "': "; };
     if (!in_known_ || !out_known_)
-      throw PyError(where + "the input and output tensors are not known yet (setInputDim() " +
+      throw PyError(where() + "the input and output tensors are not known yet (setInputDim() " +
                     "has not been called: set the input first)");
     if (num_in != in_.num_tensors || num_out != out_.num_tensors)
-      throw PyError(where + "invoked with " + std::to_string(num_in) + " inputs and " +
+      throw PyError(where() + "invoked with " + std::to_string(num_in) + " inputs and " +
                     std::to_string(num_out) + " outputs; the script has " +
                     std::to_string(in_.num_tensors) + " and " + std::to_string(out_.num_tensors));
     for (uint32_t i = 0; i < num_in; i++) {
       size_t want = tensor_bytes(in_.tensors[i]);
       if (in[i].size != want || (!in[i].data && want))
-        throw PyError(where + "input tensor " + std::to_string(i) + " has " +
+        throw PyError(where() + "input tensor " + std::to_string(i) + " has " +
                       std::to_string(in[i].size) + " bytes; expected " + std::to_string(want) +
                       " (" + dims_text(in_.tensors[i]) + " " + type_name_of(in_.tensors[i].type) +
                       ")");
@@ -274,18 +275,18 @@ class Python3Filter final : public FilterBackend {
 
     Gil gil;
     Ref list(PyList_New(num_in));
-    if (!list) throw_pending(where + "cannot build the input list");
+    if (!list) throw_pending(where() + "cannot build the input list");
     for (uint32_t i = 0; i < num_in; i++)
       PyList_SET_ITEM(list.get(), i,
                       wrap_readonly(in[i].data, in[i].size, in_.tensors[i].type).release());
     Ref res(PyObject_CallOneArg(inst_->invoke.get(), list.get()));
     list = Ref();  // the input arrays go now unless the script kept them
-    if (!res) throw_pending(where + "invoke() raised");
+    if (!res) throw_pending(where() + "invoke() raised");
     if (!PyList_Check(res.get()))
-      throw PyError(where + "invoke() returned " + type_name(res.get()) +
+      throw PyError(where() + "invoke() returned " + type_name(res.get()) +
                     "; expected a list of numpy arrays");
     if (PyList_GET_SIZE(res.get()) != static_cast<Py_ssize_t>(num_out))
-      throw PyError(where + "invoke() returned " + std::to_string(PyList_GET_SIZE(res.get())) +
+      throw PyError(where() + "invoke() returned " + std::to_string(PyList_GET_SIZE(res.get())) +
                     " arrays; the script's output has " + std::to_string(num_out) + " tensors (" +
                     desc_text(out_) + ")");
 
@@ -302,8 +303,9 @@ class Python3Filter final : public FilterBackend {
     for (uint32_t i = 0; i < num_out; i++) {
       PyObject *o = PyList_GET_ITEM(res.get(), i);
       const nns_tensor_desc &t = out_.tensors[i];
-      const std::string what = where + "invoke() output " + std::to_string(i);
-      if (!PyArray_Check(o)) throw PyError(what + " is a " + type_name(o) + ", not a numpy array");
+      auto what = [&] { return where() + "invoke() output " + std::to_string(i); };
+      if (!PyArray_Check(o))
+        throw PyError(what() + " is a " + type_name(o) + ", not a numpy array");
       auto *arr = reinterpret_cast<PyArrayObject *>(o);
       if (!PyArray_EquivTypenums(PyArray_TYPE(arr), numpy_type(t.type)) ||
           !PyArray_ISNOTSWAPPED(arr)) {
@@ -311,11 +313,11 @@ class Python3Filter final : public FilterBackend {
         const char *dn = dt ? PyUnicode_AsUTF8(dt.get()) : nullptr;
         std::string dname = dn ? dn : "?";
         PyErr_Clear();
-        throw PyError(what + " has numpy type " + dname + "; expected " + type_name_of(t.type));
+        throw PyError(what() + " has numpy type " + dname + "; expected " + type_name_of(t.type));
       }
       size_t bytes = static_cast<size_t>(PyArray_NBYTES(arr));
       if (bytes != tensor_bytes(t))
-        throw PyError(what + " has " + std::to_string(bytes) + " bytes; expected " +
+        throw PyError(what() + " has " + std::to_string(bytes) + " bytes; expected " +
                       std::to_string(tensor_bytes(t)) + " (" + dims_text(t) + " " +
                       type_name_of(t.type) + ")");
       const char *b = static_cast<const char *>(PyArray_DATA(arr));
@@ -329,7 +331,7 @@ class Python3Filter final : public FilterBackend {
       PyObject *hold = o;
       if (copy) {
         hold = PyArray_NewCopy(arr, NPY_CORDER);
-        if (!hold) throw_pending(what + ": copying failed");
+        if (!hold) throw_pending(what() + ": copying failed");
       } else {
         Py_INCREF(hold);
       }
