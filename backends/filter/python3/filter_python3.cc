@@ -21,25 +21,13 @@
 
 #include "nns_filter_backend.hh"
 #include "nns_numpy.h"
+#include "nns_python_lend.h"
 #include "nns_python_tensors.h"
 
 namespace nns::py {
 namespace {
 
 const char *const kExtensions[] = {".py", nullptr};
-
-// Output arrays lent to the host. Global rather than per instance so that free_output never needs
-// the instance (the host may close a filter while its outputs are still downstream). GIL-guarded.
-struct Lent {
-  const char *begin;
-  size_t size;
-  PyObject *array;  // owned
-};
-std::vector<Lent> g_lent;
-
-bool overlaps(const char *b, size_t n, const char *ob, size_t on) {
-  return n && on && b < ob + on && ob < b + n;
-}
 
 // Runs `f`, turning PyError into FilterError (the script or its results are at fault).
 template <typename F>
@@ -154,20 +142,6 @@ class Python3Filter final : public FilterBackend {
       in_known_ = in_known;
       out_known_ = out_known;
     });
-  }
-
-  // free_output for every instance: looks the data up among the lent arrays.
-  static void release_output(void *data) {
-    if (!data || !runtime_alive()) return;
-    Gil gil;
-    for (size_t i = g_lent.size(); i-- > 0;) {
-      if (g_lent[i].begin != data) continue;
-      PyObject *arr = g_lent[i].array;
-      g_lent[i] = g_lent.back();
-      g_lent.pop_back();
-      Py_DECREF(arr);  // may run arbitrary code: the entry is already gone
-      return;
-    }
   }
 
  private:
@@ -291,15 +265,7 @@ class Python3Filter final : public FilterBackend {
                     desc_text(out_) + ")");
 
     // Validate and (where needed) copy every output before lending any: a failure lends none.
-    // Nothing is added to g_lent before the end, as copies may release the GIL.
-    pending_.clear();
-    struct Releaser {
-      std::vector<Lent> &v;
-      ~Releaser() {
-        for (Lent &l : v) Py_XDECREF(l.array);
-        v.clear();
-      }
-    } releaser{pending_};
+    LendBatch batch(pending_, in, num_in);
     for (uint32_t i = 0; i < num_out; i++) {
       PyObject *o = PyList_GET_ITEM(res.get(), i);
       const nns_tensor_desc &t = out_.tensors[i];
@@ -309,10 +275,7 @@ class Python3Filter final : public FilterBackend {
       auto *arr = reinterpret_cast<PyArrayObject *>(o);
       if (!PyArray_EquivTypenums(PyArray_TYPE(arr), numpy_type(t.type)) ||
           !PyArray_ISNOTSWAPPED(arr)) {
-        Ref dt(PyObject_Str(reinterpret_cast<PyObject *>(PyArray_DESCR(arr))));
-        const char *dn = dt ? PyUnicode_AsUTF8(dt.get()) : nullptr;
-        std::string dname = dn ? dn : "?";
-        PyErr_Clear();
+        std::string dname = str(reinterpret_cast<PyObject *>(PyArray_DESCR(arr)));
         throw PyError(what() + " has numpy type " + dname + "; expected " + type_name_of(t.type));
       }
       size_t bytes = static_cast<size_t>(PyArray_NBYTES(arr));
@@ -320,46 +283,21 @@ class Python3Filter final : public FilterBackend {
         throw PyError(what() + " has " + std::to_string(bytes) + " bytes; expected " +
                       std::to_string(tensor_bytes(t)) + " (" + dims_text(t) + " " +
                       type_name_of(t.type) + ")");
-      const char *b = static_cast<const char *>(PyArray_DATA(arr));
-      bool copy = !PyArray_IS_C_CONTIGUOUS(arr);
-      for (uint32_t j = 0; !copy && j < num_in; j++)
-        copy = overlaps(b, bytes, static_cast<const char *>(in[j].data), in[j].size);
-      for (const Lent &l : g_lent)
-        if (!copy) copy = overlaps(b, bytes, l.begin, l.size);
-      for (const Lent &l : pending_)
-        if (!copy) copy = overlaps(b, bytes, l.begin, l.size);
-      PyObject *hold = o;
-      if (copy) {
-        hold = PyArray_NewCopy(arr, NPY_CORDER);
-        if (!hold) throw_pending(what() + ": copying failed");
-      } else {
-        Py_INCREF(hold);
-      }
-      pending_.push_back(
-          {static_cast<const char *>(PyArray_DATA(reinterpret_cast<PyArrayObject *>(hold))), bytes,
-           hold});
+      if (!batch.add(o)) throw_pending(what() + ": copying failed");
     }
-    for (uint32_t i = 0; i < num_out; i++) {
-      out[i].data = const_cast<char *>(pending_[i].begin);
-      out[i].size = pending_[i].size;
-      g_lent.push_back(pending_[i]);
-    }
-    pending_.clear();  // ownership moved to g_lent
+    batch.commit(out);
   }
 
   std::string path_, custom_;
   std::unique_ptr<Instance> inst_;
   nns_tensors_desc in_{}, out_{};
   bool in_known_ = false, out_known_ = false;
-  std::vector<Lent> pending_;  // per-invoke scratch, kept to avoid reallocation
+  std::vector<LentArray> pending_;  // per-invoke scratch, kept to avoid reallocation
 };
 
 void free_output(void *priv, void *data) {
-  (void)priv;  // may already be closed; see g_lent
-  try {
-    Python3Filter::release_output(data);
-  } catch (...) {
-  }
+  (void)priv;  // may already be closed: lent arrays are tracked process-wide
+  release_lent(data);
 }
 
 }  // namespace
