@@ -5,12 +5,15 @@ if(NOT TARGET nns_filter_python3)
 endif()
 
 # The back end inside a host program that is itself Python (interpreter already initialized).
-# PYTHONPATH is cleared: the back end must find nnstreamer_python on its own.
+# PYTHONPATH is cleared: the back end must find nnstreamer_python on its own. Not with sanitizers:
+# an ASan-built .so cannot be loaded into an uninstrumented python3.
+if(NOT NNS_SANITIZE)
 add_test(NAME filter_python3_python_host
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/backends/python3_host_test.py
           $<TARGET_FILE:nns_filter_python3> ${CMAKE_CURRENT_SOURCE_DIR}/data/python)
 set_tests_properties(filter_python3_python_host PROPERTIES LABELS backends TIMEOUT 120
   ENVIRONMENT_MODIFICATION "PYTHONPATH=unset:")
+endif()
 
 # A different python3 first on PATH (as pyenv's is here) must not change which standard library
 # and site-packages the embedded interpreter uses. The fake one has a stdlib landmark and nothing

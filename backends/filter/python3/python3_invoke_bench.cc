@@ -2,7 +2,7 @@
 // Per-invoke cost of the python3 filter back end through its C ABI (dlopen, open, invoke +
 // free_output in a loop), for tests/data/python/bench_ops.py in each of its modes, on a tiny
 // tensor (4 bytes) and on a 640x480 RGB frame. Results go to docs/benchmarks/python3.md.
-//   build/backends/filter/python3/python3_invoke_bench [iterations]
+//   build/bench/python3_invoke_bench [iterations]
 #include <dlfcn.h>
 
 #include <algorithm>
