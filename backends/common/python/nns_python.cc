@@ -182,6 +182,9 @@ std::string error_text() {
   std::string msg = str(v.get());
   std::string head = msg.empty() ? type_name(v.get()) : type_name(v.get()) + ": " + msg;
   std::string full = format_with("format_exception", v.get());
+  // The formatted exception ends with the head again: drop it (hosts cap message lengths).
+  size_t last = full.rfind('\n');
+  if (last != std::string::npos && head.rfind(full.substr(last + 1), 0) == 0) full.resize(last);
   if (full.empty() || full == head) return head;
   return head + "\n" + full;
 }
