@@ -13,6 +13,16 @@ add_test(NAME filter_python3_python_host
           $<TARGET_FILE:nns_filter_python3> ${CMAKE_CURRENT_SOURCE_DIR}/data/python)
 set_tests_properties(filter_python3_python_host PROPERTIES LABELS backends TIMEOUT 120
   ENVIRONMENT_MODIFICATION "PYTHONPATH=unset:")
+
+# tensor_filter framework=python3 in a PyGObject application (skipped, 77, without PyGObject or
+# without the tensor_filter element).
+add_test(NAME filter_python3_gi_host
+  COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/backends/python3_gi_host_test.py
+          ${CMAKE_CURRENT_SOURCE_DIR}/data/python)
+set_tests_properties(filter_python3_gi_host PROPERTIES LABELS backends TIMEOUT 120
+  SKIP_RETURN_CODE 77
+  ENVIRONMENT "GST_PLUGIN_PATH=${CMAKE_BINARY_DIR}/plugin;GST_REGISTRY=${CMAKE_CURRENT_BINARY_DIR}/python3_gi_registry.bin;NNSTREAMER_CONF=${CMAKE_BINARY_DIR}/nnstreamer.ini;NNSTREAMER_FILTERS=${NNS_BUILD_FILTERS_DIR}"
+  ENVIRONMENT_MODIFICATION "PYTHONPATH=unset:")
 endif()
 
 # A different python3 first on PATH (as pyenv's is here) must not change which standard library
