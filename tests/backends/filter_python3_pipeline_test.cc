@@ -85,17 +85,24 @@ TEST(FilterPython3Pipeline, ScalerDownAndUp) {
   }
 }
 
-TEST(FilterPython3Pipeline, MultiTensorMath) {
+TEST(FilterPython3Pipeline, TwoOutputTensors) {
   REQUIRE_PYTHON3_FILTER();
-  // Two float32 2:2 tensors of zeros in; sum and product (zeros) out, 16 bytes each per frame.
-  std::string dir = nns::test::make_temp_dir();
-  auto r = run_pipeline(
-      "fakesrc num-buffers=2 sizetype=fixed sizemax=32 filltype=zero ! "
-      "other/tensors,format=static,num_tensors=2,types=(string)\"float32,float32\","
-      "dimensions=(string)\"2:2,2:2\",framerate=0/1 ! tensor_filter framework=python3 model=" +
-      script("add.py") + " ! filesink location=" + dir + "/out");
-  ASSERT_TRUE(r.eos) << r.error_text;
-  EXPECT_EQ(nns::test::read_file(dir + "/out"), std::vector<uint8_t>(2 * 32, 0));
+  // output_cases.py: one uint8 tensor of 8 in (fakesrc's pattern 0..7), two of 4 out.
+  for (auto [mode, want] :
+       {std::pair<const char *, std::vector<uint8_t>>{"copy", {0, 1, 2, 3, 4, 5, 6, 7}},
+        {"alias", {0, 1, 2, 3, 4, 5, 6, 7}},
+        {"strided", {0, 2, 4, 6, 7, 5, 3, 1}}}) {
+    std::string dir = nns::test::make_temp_dir();
+    auto r = run_pipeline(
+        "fakesrc num-buffers=2 sizetype=fixed sizemax=8 filltype=pattern ! "
+        "other/tensors,format=static,num_tensors=1,types=(string)uint8,dimensions=(string)8,"
+        "framerate=0/1 ! tensor_filter framework=python3 model=" +
+        script("output_cases.py") + " custom=" + mode + " ! filesink location=" + dir + "/out");
+    ASSERT_TRUE(r.eos) << mode << ": " << r.error_text;
+    std::vector<uint8_t> twice = want;
+    twice.insert(twice.end(), want.begin(), want.end());
+    EXPECT_EQ(nns::test::read_file(dir + "/out"), twice) << mode;
+  }
 }
 
 TEST(FilterPython3Pipeline, SyntaxErrorIsABusError_n) {

@@ -44,24 +44,23 @@ FRAMES = 5
 pipeline = Gst.parse_launch(
     "videotestsrc num-buffers=%d pattern=ball ! video/x-raw,format=RGB,width=280,height=40,"
     "framerate=30/1 ! tensor_converter ! tee name=t ! queue ! tensor_filter framework=python3 "
-    "model=%s ! appsink name=filtered sync=false t. ! queue ! appsink name=direct sync=false"
+    "model=%s ! fakesink name=filtered signal-handoffs=true enable-last-sample=false t. ! queue ! "
+    "fakesink name=direct signal-handoffs=true enable-last-sample=false"
     % (FRAMES, os.path.join(SCRIPTS, "passthrough.py")))
 got = {"filtered": [], "direct": []}
 threads = set()
 
 
-def on_sample(sink, name):
-    sample = sink.emit("pull-sample")
-    buf = sample.get_buffer()
+# fakesink handoffs rather than appsink: PyGObject 3.42 leaks the samples of
+# appsink.emit("pull-sample"), which would keep the filter's output buffers (and so the filter
+# instance) alive after the pipeline stops.
+def on_handoff(sink, buf, pad, name):
     got[name].append(buf.extract_dup(0, buf.get_size()))
     threads.add(threading.get_ident())
-    return Gst.FlowReturn.OK
 
 
 for name in got:
-    sink = pipeline.get_by_name(name)
-    sink.set_property("emit-signals", True)
-    sink.connect("new-sample", on_sample, name)
+    pipeline.get_by_name(name).connect("handoff", on_handoff, name)
 
 pipeline.set_state(Gst.State.PLAYING)
 msg = pipeline.get_bus().timed_pop_filtered(20 * Gst.SECOND,
@@ -70,6 +69,7 @@ check(msg is not None and msg.type == Gst.MessageType.EOS,
       "pipeline reaches EOS: %s" % (msg.parse_error() if msg and msg.type == Gst.MessageType.ERROR
                                     else msg))
 pipeline.set_state(Gst.State.NULL)
+pipeline = None
 
 check(len(got["filtered"]) == FRAMES, "%d filtered frames" % len(got["filtered"]))
 check(got["filtered"] == got["direct"], "passthrough output equals its input")
