@@ -247,6 +247,8 @@ class Python3Filter final : public FilterBackend {
                       ")");
     }
 
+    // A Python host that is exiting: taking the GIL now would end this thread inside Python.
+    if (!runtime_alive()) throw PyError(where() + "the Python interpreter is shutting down");
     Gil gil;
     Ref list(PyList_New(num_in));
     if (!list) throw_pending(where() + "cannot build the input list");
