@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <memory>
 
 #include "nns_numpy.h"
 
@@ -157,7 +158,8 @@ void desc_from_shapes(PyObject *shapes, const std::string &what, nns_tensors_des
   if (n < 1 || n > NNS_TENSOR_SIZE_LIMIT)
     throw PyError(what + " returned " + std::to_string(n) + " tensors; expected 1 to " +
                   std::to_string(NNS_TENSOR_SIZE_LIMIT));
-  nns_tensors_desc out{};
+  auto heap = std::make_unique<nns_tensors_desc>();  // 83 KB: not on a streaming thread's stack
+  nns_tensors_desc &out = *heap;
   out.num_tensors = static_cast<uint32_t>(n);
   out.format = _NNS_TENSOR_FORMAT_STATIC;
   for (Py_ssize_t i = 0; i < n; i++) {

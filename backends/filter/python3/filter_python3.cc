@@ -110,13 +110,13 @@ class Python3Filter final : public FilterBackend {
   bool set_input_info(const nns_tensors_desc &in, nns_tensors_desc &out) override {
     return script_call([&] {
       Gil gil;
-      if (!inst_->set_input_dim) return false;  // getInputDim/getOutputDim script
-      nns_tensors_desc result{};
-      call_set_input_dim(*inst_, path_, in, result);
+      if (!inst_->set_input_dim) return false;             // getInputDim/getOutputDim script
+      auto result = std::make_unique<nns_tensors_desc>();  // 83 KB: not on a streaming stack
+      call_set_input_dim(*inst_, path_, in, *result);
       in_ = in;
-      out_ = result;
+      out_ = *result;
       in_known_ = out_known_ = true;
-      out = result;
+      out = *result;
       return true;
     });
   }
@@ -131,14 +131,15 @@ class Python3Filter final : public FilterBackend {
       std::string path = script_path(p);
       std::string custom = p.custom ? p.custom : "";
       Gil gil;
-      nns_tensors_desc in = in_, out = out_;
+      auto in = std::make_unique<nns_tensors_desc>(in_);
+      auto out = std::make_unique<nns_tensors_desc>(out_);
       bool in_known = in_known_, out_known = out_known_;
-      std::unique_ptr<Instance> fresh = prepare(path, custom, in, in_known, out, out_known);
+      std::unique_ptr<Instance> fresh = prepare(path, custom, *in, in_known, *out, out_known);
       inst_.swap(fresh);  // the old instance goes with `fresh`, under the GIL
       path_ = path;
       custom_ = custom;
-      in_ = in;
-      out_ = out;
+      in_ = *in;
+      out_ = *out;
       in_known_ = in_known;
       out_known_ = out_known;
     });
@@ -209,11 +210,12 @@ class Python3Filter final : public FilterBackend {
     if (!i) throw_pending(where + "getInputDim() raised");
     Ref o(PyObject_CallNoArgs(inst.get_output_dim.get()));
     if (!o) throw_pending(where + "getOutputDim() raised");
-    nns_tensors_desc di{}, dout{};
-    desc_from_shapes(i.get(), where + "getInputDim()", di);
-    desc_from_shapes(o.get(), where + "getOutputDim()", dout);
-    in = di;
-    out = dout;
+    auto di = std::make_unique<nns_tensors_desc>();  // 83 KB each: not on the stack
+    auto dout = std::make_unique<nns_tensors_desc>();
+    desc_from_shapes(i.get(), where + "getInputDim()", *di);
+    desc_from_shapes(o.get(), where + "getOutputDim()", *dout);
+    in = *di;
+    out = *dout;
   }
 
   static void call_set_input_dim(Instance &inst, const std::string &path,
