@@ -121,15 +121,18 @@ SyncResult TimeSync::step(SyncInputs &in) {
           ++empty;
         break;
       case SyncMode::kRefresh:
-        if (in.head_pts(i)) {
+        // New buffers replace the last ones; a pad without any buffer yet blocks the output
+        // (checked below, after every new buffer has been kept).
+        if (in.head_pts(i))
           in.take_head(i);
-        } else {
-          if (!in.last_pts(i)) return SyncResult::kNeedData;  // not every pad has data yet
+        else
           ++empty;
-        }
         break;
     }
   }
+  if (mode_ == SyncMode::kRefresh)
+    for (std::size_t i = 0; i < n; ++i)
+      if (!in.last_pts(i)) return SyncResult::kNeedData;  // not every pad has data yet
   bool eos = mode_ == SyncMode::kRefresh ? empty == n : empty > 0;
   if (eos) return SyncResult::kEos;
   need_time_ = true;

@@ -200,6 +200,17 @@ TEST(TimeSync, RefreshFirstOutputKeepsFirstTime) {
   EXPECT_EQ(pads.used(), (std::vector<uint64_t>{7, 9}));
 }
 
+TEST(TimeSync, RefreshKeepsEarlyArrivalsOfLaterPads) {
+  TimeSync sync(SyncMode::kRefresh, {});
+  FakePads pads({{}, {}});
+  pads.streams_[1].push_back(3);
+  EXPECT_EQ(sync.step(pads), SyncResult::kNeedData);
+  EXPECT_TRUE(pads.streams_[1].empty()) << "the buffer of pad 1 is kept as its last";
+  pads.streams_[0].push_back(4);
+  EXPECT_EQ(sync.step(pads), SyncResult::kOutput);
+  EXPECT_EQ(pads.used(), (std::vector<uint64_t>{4, 3}));
+}
+
 TEST(TimeSync, ResetRestartsTime) {
   TimeSync sync(SyncMode::kNoSync, {});
   FakePads pads({stream(k30, 3)});
