@@ -446,6 +446,7 @@ static gboolean gst_tensor_sync_start(GstAggregator *agg) {
                                        : p->mode_name;
       option = p->option;
     }
+    if (auto check = GST_TENSOR_SYNC_GET_CLASS(self)->check_settings) check(self);
     auto mode = nns::sync_mode_from_name(mode_name);
     if (!mode)
       nns::fail(nns::ErrorKind::kSettings,
@@ -571,6 +572,19 @@ bool sync_get_property(GstTensorSync *self, guint first_id, guint id, GValue *va
 }
 
 const TensorsConfig &sync_output_config(GstTensorSync *self) { return priv_of(self)->out_config; }
+
+void sync_slowest_rate(const std::vector<TensorsConfig> &in, int *rate_n, int *rate_d) {
+  int n = -1, d = -1;
+  for (const auto &c : in) {
+    if (c.rate_n < 0 || c.rate_d <= 0) continue;
+    if (n < 0 || static_cast<int64_t>(c.rate_n) * d < static_cast<int64_t>(n) * c.rate_d) {
+      n = c.rate_n;
+      d = c.rate_d;
+    }
+  }
+  *rate_n = n < 0 ? 0 : n;
+  *rate_d = n < 0 ? 1 : d;
+}
 
 std::string sync_pad_name(GstTensorSync *self, std::size_t i) {
   std::string name = "sink pad " + std::to_string(i);

@@ -32,6 +32,8 @@ struct _GstTensorSyncClass {
   // One output buffer (without timestamps) from one buffer per pad, in pad order, for the
   // last configured inputs. Throws nns::Error.
   GstBuffer *(*combine)(GstTensorSync *self, GstBuffer *const *in, std::size_t n);
+  // Optional: validates the subclass's own properties when the element starts (throws).
+  void (*check_settings)(GstTensorSync *self);
 };
 
 G_END_DECLS
@@ -47,6 +49,8 @@ bool sync_get_property(GstTensorSync *self, guint first_id, guint id, GValue *va
 
 // The output config negotiated last (valid inside combine).
 const TensorsConfig &sync_output_config(GstTensorSync *self);
+// The slowest of the input frame rates, 0/1 when none is known.
+void sync_slowest_rate(const std::vector<TensorsConfig> &in, int *rate_n, int *rate_d);
 // Name of the i-th sink pad (for messages).
 std::string sync_pad_name(GstTensorSync *self, std::size_t i);
 

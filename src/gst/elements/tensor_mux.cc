@@ -63,19 +63,6 @@ static GstStaticPadTemplate src_template =
 
 namespace {
 
-// The slowest of the input rates (0/1 if any input has an unknown rate).
-void slowest_rate(const std::vector<nns::TensorsConfig> &in, int *n, int *d) {
-  *n = -1;
-  *d = -1;
-  for (const auto &c : in) {
-    if (c.rate_n < 0 || c.rate_d <= 0) continue;
-    if (*n < 0 || static_cast<int64_t>(c.rate_n) * *d < static_cast<int64_t>(*n) * c.rate_d) {
-      *n = c.rate_n;
-      *d = c.rate_d;
-    }
-  }
-}
-
 nns::TensorsConfig mux_configure(GstTensorSync *base, const std::vector<nns::TensorsConfig> &in,
                                  const std::vector<std::string> &names) {
   auto *self = GST_TENSOR_MUX(base);
@@ -98,11 +85,7 @@ nns::TensorsConfig mux_configure(GstTensorSync *base, const std::vector<nns::Ten
       out.info.tensors.insert(out.info.tensors.end(), c.info.tensors.begin(),
                               c.info.tensors.end());
   }
-  slowest_rate(in, &out.rate_n, &out.rate_d);
-  if (out.rate_n < 0) {
-    out.rate_n = 0;
-    out.rate_d = 1;
-  }
+  nns::gst::sync_slowest_rate(in, &out.rate_n, &out.rate_d);
   self->priv->in = in;
   self->priv->flexible_out = flexible;
   return out;
