@@ -111,6 +111,10 @@ static gboolean gst_tensor_sink_event(GstBaseSink *sink, GstEvent *event) {
 static gboolean gst_tensor_sink_set_caps(GstBaseSink *sink, GstCaps *caps) {
   return nns::gst::guard(sink, FALSE, [&]() -> gboolean {
     auto config = nns::gst::config_from_caps(caps);  // validates the caps strings
+    if (!config.info.valid())
+      nns::fail(nns::ErrorKind::kNegotiation,
+                "format=static caps need the dimensions and types of every tensor, got " +
+                    nns::gst::caps_to_string(caps));
     GST_DEBUG_OBJECT(sink, "negotiated %s", config.info.to_string().c_str());
     return TRUE;
   });
@@ -119,14 +123,17 @@ static gboolean gst_tensor_sink_set_caps(GstBaseSink *sink, GstCaps *caps) {
 static GstFlowReturn gst_tensor_sink_render(GstBaseSink *sink, GstBuffer *buf) {
   auto *self = GST_TENSOR_SINK(sink);
   SinkPriv *p = self->priv;
+  if (!p->silent)
+    GST_INFO_OBJECT(self, "buffer pts %" GST_TIME_FORMAT ", %" G_GSIZE_FORMAT " bytes, %u memories",
+                    GST_TIME_ARGS(GST_BUFFER_PTS(buf)), gst_buffer_get_size(buf),
+                    gst_buffer_n_memory(buf));
   if (!p->emit_signal) return GST_FLOW_OK;
   guint rate = p->signal_rate;
   if (rate > 0) {
     // Throttle on the clock of the process, not the stream: the rate is for the application.
     GstClockTime now = g_get_monotonic_time() * GST_USECOND;
     GstClockTime gap = GST_SECOND / rate;
-    if (GST_CLOCK_TIME_IS_VALID(p->last_render) && now < p->last_render + gap)
-      return GST_FLOW_OK;
+    if (GST_CLOCK_TIME_IS_VALID(p->last_render) && now < p->last_render + gap) return GST_FLOW_OK;
     p->last_render = now;
   }
   g_signal_emit(self, tensor_sink_signals[SIGNAL_NEW_DATA], 0, buf);
@@ -158,14 +165,13 @@ static void gst_tensor_sink_class_init(GstTensorSinkClass *klass) {
                            static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS)));
 
   tensor_sink_signals[SIGNAL_NEW_DATA] =
-      g_signal_new("new-data", G_TYPE_FROM_CLASS(klass), G_SIGNAL_RUN_LAST, 0, nullptr,
-                   nullptr, nullptr, G_TYPE_NONE, 1, GST_TYPE_BUFFER | G_SIGNAL_TYPE_STATIC_SCOPE);
+      g_signal_new("new-data", G_TYPE_FROM_CLASS(klass), G_SIGNAL_RUN_LAST, 0, nullptr, nullptr,
+                   nullptr, G_TYPE_NONE, 1, GST_TYPE_BUFFER | G_SIGNAL_TYPE_STATIC_SCOPE);
   tensor_sink_signals[SIGNAL_STREAM_START] =
-      g_signal_new("stream-start", G_TYPE_FROM_CLASS(klass), G_SIGNAL_RUN_LAST, 0, nullptr,
-                   nullptr, nullptr, G_TYPE_NONE, 0);
-  tensor_sink_signals[SIGNAL_EOS] = g_signal_new("eos", G_TYPE_FROM_CLASS(klass),
-                                                 G_SIGNAL_RUN_LAST, 0, nullptr, nullptr,
-                                                 nullptr, G_TYPE_NONE, 0);
+      g_signal_new("stream-start", G_TYPE_FROM_CLASS(klass), G_SIGNAL_RUN_LAST, 0, nullptr, nullptr,
+                   nullptr, G_TYPE_NONE, 0);
+  tensor_sink_signals[SIGNAL_EOS] = g_signal_new("eos", G_TYPE_FROM_CLASS(klass), G_SIGNAL_RUN_LAST,
+                                                 0, nullptr, nullptr, nullptr, G_TYPE_NONE, 0);
 
   gst_element_class_set_static_metadata(element_class, "TensorSink", "Sink/Tensor",
                                         "Hands tensor frames to the application through signals",

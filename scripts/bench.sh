@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-only
+# Builds the tree (Release unless already configured) and runs every benchmark in build/bench/.
+# Results are printed and saved to build/bench-results/<name>.txt.
+#
+# usage: scripts/bench.sh [name-substring]      e.g. scripts/bench.sh pipeline
+# env:   NNS_BUILD_DIR (build), NNS_JOBS (nproc)
+# Benchmarks are timing-sensitive: run them on an otherwise idle machine and compare medians.
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+JOBS=${NNS_JOBS:-$(nproc 2>/dev/null || echo 2)}
+filter=${1:-}
+
+if [[ ! -f $BUILD_DIR/CMakeCache.txt ]]; then
+  cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$BUILD_DIR/CMakeCache.txt")
+[[ $type == Release ]] || echo "[bench] warning: ${BUILD_DIR#"$ROOT"/} is a '$type' build, not Release"
+cmake --build "$BUILD_DIR" -j"$JOBS" >/dev/null || {
+  echo "[bench] build failed: run cmake --build ${BUILD_DIR#"$ROOT"/} for the errors" >&2
+  exit 1
+}
+# The benchmarks register the elements in-process; never pick up another plugin build.
+export GST_PLUGIN_PATH=
+mkdir -p "$BUILD_DIR/bench-results"
+shopt -s nullglob
+ran=0 failed=0
+for b in "$BUILD_DIR"/bench/*_bench; do
+  name=$(basename "$b")
+  [[ -z $filter || $name == *"$filter"* ]] || continue
+  echo "[bench] ===== $name ($(date -u +%FT%TZ), $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg))"
+  if "$b" 2>&1 | tee "$BUILD_DIR/bench-results/$name.txt"; then ran=$((ran + 1)); else
+    echo "[bench] $name FAILED" >&2
+    failed=$((failed + 1))
+  fi
+done
+((ran + failed)) || echo "[bench] no benchmark matched '${filter}' in ${BUILD_DIR#"$ROOT"/}/bench"
+echo "[bench] $ran benchmark(s) ran, $failed failed; results in ${BUILD_DIR#"$ROOT"/}/bench-results/"
+((failed == 0))

@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: LGPL-2.1-only
+# Builds (configuring first when needed) and runs the whole test suite with CTest.
+# Exits non-zero when the build or any test fails.
+#
+# usage: scripts/test.sh [extra ctest args, e.g. -R tensor_sink]
+# env:   NNS_BUILD_DIR (build), NNS_BUILD_TYPE (Release, first configure only), NNS_JOBS (nproc),
+#        NNS_SANITIZE=1  also builds and runs the tests with ASan/UBSan in build-asan/ (opt-in),
+#        NNS_FORMAT_CHECK=0 skips the clang-format check (warn-only for now).
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+BUILD_TYPE=${NNS_BUILD_TYPE:-Release}
+JOBS=${NNS_JOBS:-$(nproc 2>/dev/null || echo 2)}
+CTEST_JOBS=${NNS_CTEST_JOBS:-2}
+T0=$(date +%s)
+PASSED=0 FAILED=0 SKIPPED=0
+
+say() { printf '[test] %s\n' "$*"; }
+
+# build_tree <dir> <cmake args...>: configure when there is no cache yet, then build.
+build_tree() {
+  local dir=$1
+  shift
+  local log_dir=$dir/setup-logs
+  mkdir -p "$log_dir"
+  if [[ ! -f $dir/CMakeCache.txt ]]; then
+    say "configuring ${dir#"$ROOT"/}"
+    cmake -S "$ROOT" -B "$dir" "$@" >"$log_dir/cmake-test.log" 2>&1 || {
+      tail -n 40 "$log_dir/cmake-test.log" >&2
+      say "FAILED: cmake configure of ${dir#"$ROOT"/}"
+      exit 1
+    }
+  fi
+  local t0
+  t0=$(date +%s)
+  if ! cmake --build "$dir" -j"$JOBS" >"$log_dir/build-test.log" 2>&1; then
+    grep -E -A5 'error:|Error [0-9]' "$log_dir/build-test.log" | head -n 80 >&2 || true
+    say "FAILED: build of ${dir#"$ROOT"/} (log: ${log_dir#"$ROOT"/}/build-test.log)"
+    exit 1
+  fi
+  say "built ${dir#"$ROOT"/} in $(($(date +%s) - t0)) s"
+}
+
+# run_ctest <dir> [args]: runs ctest (its summary line is printed), adds up the counts,
+# returns ctest's status.
+run_ctest() {
+  local dir=$1
+  shift
+  local t0 rc=0 log=$dir/setup-logs/ctest.log
+  t0=$(date +%s)
+  (cd "$dir" && ctest --output-on-failure -j"$CTEST_JOBS" "$@") 2>&1 | tee "$log" || rc=$?
+  local total failed skipped
+  total=$(sed -n 's/.* tests failed out of \([0-9]*\).*/\1/p' "$log" | tail -n 1)
+  failed=$(sed -n 's/.*, \([0-9]*\) tests failed out of.*/\1/p' "$log" | tail -n 1)
+  skipped=$(grep -c '\*\*\*Skipped\|(Disabled)' "$log" || true)
+  if [[ -z $total ]]; then
+    say "ctest printed no summary (no tests found?)"
+    rc=1
+  else
+    PASSED=$((PASSED + total - failed - skipped))
+    FAILED=$((FAILED + failed))
+    SKIPPED=$((SKIPPED + skipped))
+  fi
+  say "ctest in ${dir#"$ROOT"/} took $(($(date +%s) - t0)) s (exit $rc)"
+  return $rc
+}
+
+if [[ ${NNS_FORMAT_CHECK:-1} != 0 && -x $ROOT/scripts/format-check.sh ]]; then
+  # Warn-only for now: formatting problems are printed but do not fail the run.
+  "$ROOT/scripts/format-check.sh" --quiet || say "warning: clang-format check found files to" \
+    "reformat (run scripts/format-check.sh --fix); not failing the run for now"
+fi
+
+build_tree "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE"
+status=0
+run_ctest "$BUILD_DIR" "$@" || status=1
+
+if [[ ${NNS_SANITIZE:-0} == 1 ]]; then
+  ASAN_DIR=${NNS_ASAN_BUILD_DIR:-$ROOT/build-asan}
+  say "sanitizer build (ASan+UBSan) in ${ASAN_DIR#"$ROOT"/}"
+  build_tree "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNNS_SANITIZE=ON -DNNS_BUILD_BENCH=OFF
+  # GStreamer keeps process-lifetime allocations (type system, registry): leaks are not checked.
+  ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:abort_on_error=0} \
+    UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+    run_ctest "$ASAN_DIR" "$@" || status=1
+fi
+
+if ((status)); then say "FAILED after $(($(date +%s) - T0)) s"; else say "all tests passed in $(($(date +%s) - T0)) s"; fi
+# Plain closing line (counts over every ctest run above).
+echo "tests: $PASSED passed, $FAILED failed, $SKIPPED skipped"
+exit $status
