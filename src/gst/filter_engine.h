@@ -81,6 +81,9 @@ class FilterEngine {
   }
   // QoS throttling (tensor_rate throttle=true): the smallest delay asked for.
   void set_throttling_delay(GstClockTimeDiff diff);
+  // True when `inbuf` comes too soon after the last processed frame; sends QoS OVERFLOW
+  // upstream. Streaming thread, without the engine lock (it pushes an event upstream).
+  bool throttled(GstBuffer *inbuf);
   int64_t last_activity_us() const { return last_activity_us_.load(std::memory_order_relaxed); }
   void set_track_activity(bool on) { track_activity_ = on; }
 
@@ -103,7 +106,6 @@ class FilterEngine {
   void release_inputs(std::size_t n);
   void release_outputs(bool free_mems);
   GstMemory *pass_input(std::size_t i);
-  bool throttled(GstBuffer *inbuf);
   void track_latency();
 
   GstBaseTransform *element_;

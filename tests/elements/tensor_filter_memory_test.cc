@@ -204,3 +204,23 @@ TEST(TensorFilterMemory, ThreadSafeSharedInstanceRunsConcurrently) {
   EXPECT_LE(g_max_concurrent.load(), 2);
   EXPECT_GE(g_max_concurrent.load(), 1);
 }
+
+TEST(TensorFilterMemory, QosThrottleDropsFramesAndTellsUpstream) {
+  FilterHarness fh("tensor_filter framework=nnsalloc model=x", tensors_caps("uint8", "4"));
+  // Downstream (e.g. tensor_rate throttle=true) wants at most one frame per 100 ms.
+  ASSERT_TRUE(gst_harness_push_upstream_event(
+      fh.h.get(), gst_event_new_qos(GST_QOS_TYPE_THROTTLE, 1.0, 100 * GST_MSECOND, 0)));
+  for (int k = 0; k < 11; ++k) {
+    GstBuffer *b = tensor_buffer({{1, 2, 3, 4}});
+    GST_BUFFER_PTS(b) = k * 20 * GST_MSECOND;
+    GST_BUFFER_DURATION(b) = 20 * GST_MSECOND;
+    ASSERT_EQ(gst_harness_push(fh.h.get(), b), GST_FLOW_OK) << fh.error_text();
+  }
+  guint got = gst_harness_buffers_received(fh.h.get());
+  EXPECT_GE(got, 2u);
+  EXPECT_LE(got, 4u);
+  EXPECT_GT(gst_harness_upstream_events_received(fh.h.get()), 0u);
+  gint latency = -1;
+  g_object_get(fh.element(), "latency", &latency, nullptr);
+  EXPECT_GE(latency, 0) << "throttling turns latency profiling on";
+}

@@ -490,6 +490,7 @@ static GstFlowReturn gst_tensor_filter_prepare_output_buffer(GstBaseTransform *t
 static GstFlowReturn gst_tensor_filter_transform(GstBaseTransform *trans, GstBuffer *inbuf,
                                                  GstBuffer *outbuf) {
   auto *self = GST_TENSOR_FILTER(trans);
+  if (self->priv->engine.throttled(inbuf)) return GST_BASE_TRANSFORM_FLOW_DROPPED;
   return nns::gst::guard(self, GST_FLOW_ERROR, [&] {
     std::lock_guard lk(self->priv->engine_mu);
     return self->priv->engine.process(inbuf, outbuf);
