@@ -112,7 +112,6 @@ void FilterEngine::open(const FilterSettings &s) {
   reported_ns_ = 0;
   prev_ts_ = GST_CLOCK_TIME_NONE;
   throttling_accum_ = 0;
-  last_activity_us_ = g_get_monotonic_time();
 }
 
 void FilterEngine::check_model_shapes() {
@@ -407,7 +406,6 @@ void FilterEngine::track_latency() {
 GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
   if (!configured_ || !inst_)
     fail(ErrorKind::kNegotiation, where() + ": a buffer arrived before the caps were set");
-  if (track_activity_) last_activity_us_.store(g_get_monotonic_time(), std::memory_order_relaxed);
 
   // 1. Map the input tensors; their pointers go to the back end unchanged.
   guint nmem = gst_buffer_n_memory(inbuf);

@@ -84,8 +84,6 @@ class FilterEngine {
   // True when `inbuf` comes too soon after the last processed frame; sends QoS OVERFLOW
   // upstream. Streaming thread, without the engine lock (it pushes an event upstream).
   bool throttled(GstBuffer *inbuf);
-  int64_t last_activity_us() const { return last_activity_us_.load(std::memory_order_relaxed); }
-  void set_track_activity(bool on) { track_activity_ = on; }
 
  private:
   struct OutTensor {
@@ -146,9 +144,6 @@ class FilterEngine {
   std::atomic<GstClockTimeDiff> throttling_delay_{0};
   GstClockTime prev_ts_ = GST_CLOCK_TIME_NONE;
   GstClockTimeDiff throttling_accum_ = 0;
-
-  std::atomic<int64_t> last_activity_us_{0};
-  bool track_activity_ = false;
 
  public:
   // latency-report: the latency added to LATENCY query answers (ns).

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_filter: loading back ends, built-in custom / custom-easy filters, shape checks and
 // their error messages.
+#include <unistd.h>
+
 #include <atomic>
 
 #include "elements/filter_test_util.h"
@@ -302,4 +304,14 @@ TEST(TensorFilter, AfterTensorConverter) {
   EXPECT_NE(r.error_text.find("the model's input is 1 tensor(s): [0] uint8 3:4:4:1"),
             std::string::npos)
       << r.error_text;
+}
+
+TEST(TensorFilter, CustomModelRelativeToWorkingDirectory) {
+  char old[4096];
+  ASSERT_NE(getcwd(old, sizeof old), nullptr);
+  ASSERT_EQ(chdir(filter_dir().c_str()), 0);
+  auto r = run_pipeline(fake_source(40, tensors_caps("float32", "10")) +
+                        "tensor_filter framework=custom model=libcustom_passthrough.so ! fakesink");
+  ASSERT_EQ(chdir(old), 0);
+  EXPECT_TRUE(r.eos) << r.error_text;
 }
