@@ -8,7 +8,7 @@
 //     `f1 ! queue ! f2` against the same two filters serially in one streaming thread and
 //     against calling the two functions in a plain loop (target >= 1.6x on 2 cores).
 //
-// usage: mux_demux_bench [--buffers N] [--runs R] [--frames F] [--burn-us U]
+// usage: mux_demux_bench [--buffers N] [--runs R] [--frames F] [--burn-us U] [--sleep]
 #include <gst/gst.h>
 #include <time.h>
 
@@ -108,10 +108,16 @@ std::string mux_demux(int n, const std::string &mode) {
 // ---- E1: two CPU-bound models --------------------------------------------------------------
 
 int g_burn_us = 1000;
+bool g_sleep = false;  // --sleep: the models wait instead of computing (an accelerator)
 
 // Spins for g_burn_us of thread CPU time, then copies input to output.
 int burn(void *, const GstTensorFilterProperties *, const GstTensorMemory *in,
          GstTensorMemory *out) {
+  if (g_sleep) {
+    g_usleep(g_burn_us);
+    std::memcpy(out[0].data, in[0].data, std::min(in[0].size, out[0].size));
+    return 0;
+  }
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   const double end = ts.tv_sec + ts.tv_nsec * 1e-9 + g_burn_us * 1e-6;
@@ -150,6 +156,8 @@ int main(int argc, char **argv) {
     return 1;
   }
   int n = 20000, runs = 5, frames = 400;
+  for (int i = 1; i < argc; ++i)
+    if (!std::strcmp(argv[i], "--sleep")) g_sleep = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--buffers")) n = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
@@ -187,8 +195,8 @@ int main(int argc, char **argv) {
         (median(w2) - median(w1)) / n * 1e6, (median(c2) - median(c1)) / n * 1e6);
   }
 
-  std::printf("\n# 2. E1: two models burning %d us each, %d frames, median of %d\n", g_burn_us,
-              frames, runs);
+  std::printf("\n# 2. E1: two models %s %d us each, %d frames, median of %d\n",
+              g_sleep ? "waiting" : "burning CPU for", g_burn_us, frames, runs);
   GstTensorsInfo info = tiny_info();
   if (NNS_custom_easy_register("burn_a", burn, nullptr, &info, &info) != 0 ||
       NNS_custom_easy_register("burn_b", burn, nullptr, &info, &info) != 0) {
