@@ -211,7 +211,8 @@ SuppliedValue parse_supplied_value(std::string_view s) {
   constexpr std::string_view what = "supplied-value";
   SuppliedValue sv;
   auto toks = split(s, ",");
-  if (toks.empty()) bad(what, "is empty; give one value or two for a range operator");
+  if (toks.empty())
+    fail(ErrorKind::kSettings, "supplied-value is not set; give one value, or two for a range operator");
   if (toks.size() > 2)
     bad(what, "'" + std::string(s) + "' has " + std::to_string(toks.size()) +
                   " values, expected 1 or 2");

@@ -36,7 +36,7 @@ TEST(TensorIfOptions, SuppliedValue) {
             std::string::npos);
   EXPECT_NE(error_of([] { parse_supplied_value("abc"); }).find("supplied-value: 'abc'"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_supplied_value(""); }).find("is empty"), std::string::npos);
+  EXPECT_NE(error_of([] { parse_supplied_value(""); }).find("is not set"), std::string::npos);
 }
 
 TEST(TensorIfOptions, AValueAndPick) {
