@@ -57,8 +57,7 @@ std::string CropRegion::to_string() const {
          ", h=" + std::to_string(h) + ")";
 }
 
-std::vector<CropRegion> parse_crop_regions(TensorType type, const uint8_t *data,
-                                           std::size_t size) {
+std::vector<CropRegion> parse_crop_regions(TensorType type, const uint8_t *data, std::size_t size) {
   std::size_t e = type_size(type);
   if (e == 0) fail(ErrorKind::kStream, "crop info has no element type");
   if (size % (4 * e) != 0)
@@ -77,8 +76,8 @@ std::vector<CropRegion> parse_crop_regions(TensorType type, const uint8_t *data,
   return out;
 }
 
-CropRegion fit_crop_region(const CropRegion &r, uint32_t width, uint32_t height,
-                           std::size_t index, bool *clipped) {
+CropRegion fit_crop_region(const CropRegion &r, uint32_t width, uint32_t height, std::size_t index,
+                           bool *clipped) {
   if (r.x >= width || r.y >= height)
     fail(ErrorKind::kStream, "crop region " + std::to_string(index) + " " + r.to_string() +
                                  " starts outside the " + std::to_string(width) + "x" +

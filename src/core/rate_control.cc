@@ -18,8 +18,8 @@ void RateAdjuster::reset() {
 uint64_t RateAdjuster::scaled(uint64_t frames) const {
   if (to_n_ <= 0) return 0;
   // frames * to_d * 1e9 / to_n without overflow for realistic values
-  unsigned __int128 v = static_cast<unsigned __int128>(frames) * static_cast<uint64_t>(to_d_) *
-                        1000000000ull;
+  unsigned __int128 v =
+      static_cast<unsigned __int128>(frames) * static_cast<uint64_t>(to_d_) * 1000000000ull;
   return static_cast<uint64_t>(v / static_cast<uint64_t>(to_n_));
 }
 
@@ -41,7 +41,9 @@ void RateAdjuster::new_segment(uint64_t base, uint64_t start, uint64_t stop) {
   next_ts_ = kNone;
 }
 
-uint64_t RateAdjuster::frame_interval() const { return scaled(1); }
+uint64_t RateAdjuster::frame_interval() const {
+  return scaled(1);
+}
 
 int64_t RateAdjuster::throttle_delay() const {
   return static_cast<int64_t>(static_cast<double>(scaled(1)) * 0.999);

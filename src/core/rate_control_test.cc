@@ -28,12 +28,13 @@ std::vector<Out> run(int n, int in_fps, int out_fps, RateAdjuster *r) {
   for (int i = 0; i < n; ++i) {
     uint64_t ts = uint64_t(i) * 1000000000ull / in_fps;
     RateAdjuster::Result res;
-    EXPECT_TRUE(r->on_frame(ts, 1000000000ull / in_fps,
-                            [&](uint64_t pts, uint64_t dur, bool dup) {
-                              out.push_back({pts, dur, dup, prev});
-                              return true;
-                            },
-                            &res));
+    EXPECT_TRUE(r->on_frame(
+        ts, 1000000000ull / in_fps,
+        [&](uint64_t pts, uint64_t dur, bool dup) {
+          out.push_back({pts, dur, dup, prev});
+          return true;
+        },
+        &res));
     if (res.store_new) prev = i;
   }
   r->drain([&](uint64_t pts, uint64_t dur, bool dup) {
@@ -72,8 +73,7 @@ TEST(RateAdjuster, UpConvert10To30) {
   EXPECT_EQ(r.counters().duplicate, r.counters().out - 10);
   ASSERT_EQ(out.size(), 27u);
   EXPECT_EQ(out[26].src, 9);
-  for (std::size_t k = 0; k < out.size(); ++k)
-    EXPECT_EQ(out[k].pts, k * 1000000000ull / 30) << k;
+  for (std::size_t k = 0; k < out.size(); ++k) EXPECT_EQ(out[k].pts, k * 1000000000ull / 30) << k;
   // frame 0 covers 0, 33 ms (nearest to frame 0), frame 1 covers 66..133 ms, ...
   EXPECT_EQ(out[0].src, 0);
   EXPECT_EQ(out[1].src, 0);
@@ -103,13 +103,14 @@ TEST(RateAdjuster, LateFrameIsDiscardedAndDropReported) {
   EXPECT_EQ(r.counters().drop, 1u);
   // 530 ms: frame at 500 is nearest to the 500 ms grid point -> output
   int emitted = 0;
-  r.on_frame(530 * kMs, RateAdjuster::kNone,
-             [&](uint64_t pts, uint64_t, bool) {
-               EXPECT_EQ(pts, 500 * kMs);
-               ++emitted;
-               return true;
-             },
-             &res);
+  r.on_frame(
+      530 * kMs, RateAdjuster::kNone,
+      [&](uint64_t pts, uint64_t, bool) {
+        EXPECT_EQ(pts, 500 * kMs);
+        ++emitted;
+        return true;
+      },
+      &res);
   EXPECT_EQ(emitted, 1);
   // 560 ms: 530 is farther from the 600 ms point than 560 -> 530 dropped, QoS wanted
   r.on_frame(560 * kMs, RateAdjuster::kNone, none, &res);

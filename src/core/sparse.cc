@@ -119,8 +119,7 @@ MetaHeader sparse_parse(const uint8_t *src, std::size_t size) {
   if (h.format != TensorFormat::kSparse)
     fail(ErrorKind::kStream, std::string("tensor memory header has format=") +
                                  std::string(format_name(h.format)) + ", expected sparse");
-  if (rank_of(h.dims) == 0)
-    fail(ErrorKind::kStream, "sparse tensor header has no dimension");
+  if (rank_of(h.dims) == 0) fail(ErrorKind::kStream, "sparse tensor header has no dimension");
   std::size_t expect = sparse_encoded_size(h.type, h.nnz);
   if (size != expect)
     fail(ErrorKind::kStream, "sparse tensor memory has " + std::to_string(size) +

@@ -24,8 +24,8 @@ std::string format_time(uint64_t ns) {
 }
 
 std::string describe_tensors(const TensorsInfo &info) {
-  std::string s = std::string(format_name(info.format)) + ", " + std::to_string(info.size()) +
-                  " tensor(s)";
+  std::string s =
+      std::string(format_name(info.format)) + ", " + std::to_string(info.size()) + " tensor(s)";
   for (std::size_t i = 0; i < info.size(); ++i)
     s += (i ? ", [" : ": [") + std::to_string(i) + "] " + info[i].to_string();
   return s;

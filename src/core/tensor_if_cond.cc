@@ -154,8 +154,8 @@ void bind(const SuppliedValue &sv, Condition::Operands *o, Condition::EvalFn *e,
   *a = eval_avg<T>;
 }
 
-void bind_type(TensorType t, const SuppliedValue &sv, Condition::Operands *o,
-               Condition::EvalFn *e, Condition::AvgFn *a) {
+void bind_type(TensorType t, const SuppliedValue &sv, Condition::Operands *o, Condition::EvalFn *e,
+               Condition::AvgFn *a) {
   switch (t) {
     case TensorType::kInt32:
       return bind<int32_t>(sv, o, e, a);
@@ -205,17 +205,20 @@ const char *op_name(Op op) {
   return i >= 0 && i < 10 ? names[i] : "?";
 }
 
-bool op_needs_two(Op op) { return static_cast<int>(op) >= static_cast<int>(Op::kRangeInclusive); }
+bool op_needs_two(Op op) {
+  return static_cast<int>(op) >= static_cast<int>(Op::kRangeInclusive);
+}
 
 SuppliedValue parse_supplied_value(std::string_view s) {
   constexpr std::string_view what = "supplied-value";
   SuppliedValue sv;
   auto toks = split(s, ",");
   if (toks.empty())
-    fail(ErrorKind::kSettings, "supplied-value is not set; give one value, or two for a range operator");
+    fail(ErrorKind::kSettings,
+         "supplied-value is not set; give one value, or two for a range operator");
   if (toks.size() > 2)
-    bad(what, "'" + std::string(s) + "' has " + std::to_string(toks.size()) +
-                  " values, expected 1 or 2");
+    bad(what,
+        "'" + std::string(s) + "' has " + std::to_string(toks.size()) + " values, expected 1 or 2");
   sv.is_float = s.find_first_of(".eE") != std::string_view::npos;
   for (const auto &t : toks) {
     if (t.empty()) bad(what, "empty entry in '" + std::string(s) + "'");

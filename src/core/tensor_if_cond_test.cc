@@ -50,9 +50,9 @@ TEST(TensorIfOptions, AValueAndPick) {
   EXPECT_NE(error_of([] { parse_pick("0,x", "else-option"); }).find("else-option: 'x'"),
             std::string::npos);
   EXPECT_EQ(parse_tensor_index("1", "compared-value-option"), 1u);
-  EXPECT_NE(error_of([] { parse_tensor_index("0,1", "compared-value-option"); })
-                .find("one tensor index"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([] { parse_tensor_index("0,1", "compared-value-option"); }).find("one tensor index"),
+      std::string::npos);
 }
 
 // One element tensor of `type` holding `v` (as the type), compared with supplied "a[,b]".
@@ -154,18 +154,22 @@ TEST(TensorIfCondition, ErrorsNameOptionAndBothValues) {
                 .find("compared-value-option='0:0,2' names tensor 2 but the input has 1 "
                       "tensor(s)"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { Condition(Compared::kAValue, "0:4,0", Op::kEq, sv, in); })
-                .find("index 4 of dimension 1 is outside tensor 0 (uint8 3:4)"),
+  EXPECT_NE(error_of([&] {
+              Condition(Compared::kAValue, "0:4,0", Op::kEq, sv, in);
+            }).find("index 4 of dimension 1 is outside tensor 0 (uint8 3:4)"),
             std::string::npos)
       << error_of([&] { Condition(Compared::kAValue, "0:4,0", Op::kEq, sv, in); });
-  EXPECT_NE(error_of([&] { Condition(Compared::kTensorAverage, "1", Op::kEq, sv, in); })
-                .find("names tensor 1 but the input has 1"),
+  EXPECT_NE(error_of([&] {
+              Condition(Compared::kTensorAverage, "1", Op::kEq, sv, in);
+            }).find("names tensor 1 but the input has 1"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { Condition(Compared::kAValue, "0,0", Op::kRangeInclusive, sv, in); })
-                .find("operator RANGE_INCLUSIVE needs two supplied values"),
+  EXPECT_NE(error_of([&] {
+              Condition(Compared::kAValue, "0,0", Op::kRangeInclusive, sv, in);
+            }).find("operator RANGE_INCLUSIVE needs two supplied values"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { action_output(Action::kTensorPick, {0, 3}, in, "then-option"); })
-                .find("then-option picks tensor 3 but the input has 1 tensor(s)"),
+  EXPECT_NE(error_of([&] {
+              action_output(Action::kTensorPick, {0, 3}, in, "then-option");
+            }).find("then-option picks tensor 3 but the input has 1 tensor(s)"),
             std::string::npos);
 }
 

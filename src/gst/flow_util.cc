@@ -27,8 +27,8 @@ void set_src_caps(GstPad *src, const TensorsConfig &cfg, const std::string &what
   CapsPtr current(gst_pad_get_current_caps(src));
   if (current && gst_caps_is_equal(current.get(), caps.get())) return;
   if (!gst_pad_set_caps(src, caps.get()))
-    fail(ErrorKind::kNegotiation, "downstream of " + what + " refused caps " +
-                                      caps_to_string(caps.get()));
+    fail(ErrorKind::kNegotiation,
+         "downstream of " + what + " refused caps " + caps_to_string(caps.get()));
 }
 
 void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix) {
@@ -51,8 +51,8 @@ void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix) 
 TensorMaps::TensorMaps(GstBuffer *buf, std::size_t expected) {
   std::size_t n = buffer_tensor_count(buf);
   if (n != expected)
-    fail(ErrorKind::kStream, "buffer has " + std::to_string(n) + " tensor(s), expected " +
-                                 std::to_string(expected));
+    fail(ErrorKind::kStream,
+         "buffer has " + std::to_string(n) + " tensor(s), expected " + std::to_string(expected));
   mems_.reserve(n);
   maps_.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -69,7 +69,9 @@ TensorMaps::TensorMaps(GstBuffer *buf, std::size_t expected) {
   }
 }
 
-TensorMaps::~TensorMaps() { release(); }
+TensorMaps::~TensorMaps() {
+  release();
+}
 
 void TensorMaps::release() {
   for (std::size_t i = 0; i < mems_.size(); ++i) {
@@ -81,6 +83,8 @@ void TensorMaps::release() {
   ptrs_.clear();
 }
 
-GstMemory *alloc_memory(std::size_t size) { return gst_allocator_alloc(nullptr, size, nullptr); }
+GstMemory *alloc_memory(std::size_t size) {
+  return gst_allocator_alloc(nullptr, size, nullptr);
+}
 
 }  // namespace nns::gst

@@ -28,8 +28,7 @@ std::optional<IfCustom> find_if_custom(const std::string &name) {
 
 }  // namespace nns::gst
 
-extern "C" int nnstreamer_if_custom_register(const gchar *name, tensor_if_custom func,
-                                             void *data) {
+extern "C" int nnstreamer_if_custom_register(const gchar *name, tensor_if_custom func, void *data) {
   if (!name || !*name || !func) return -EINVAL;
   std::lock_guard<std::mutex> l(nns::gst::lock());
   auto [it, inserted] = nns::gst::table().emplace(name, nns::gst::IfCustom{func, data});

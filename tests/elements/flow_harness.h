@@ -94,8 +94,7 @@ class AppPipeline {
         g_object_set(e, "emit-signals", TRUE, "sync", FALSE, nullptr);
         g_signal_connect(e, "new-sample", G_CALLBACK(on_sample), slot);
       } else if (GST_IS_APP_SRC(e)) {
-        g_object_set(e, "max-bytes", static_cast<guint64>(0), "format", GST_FORMAT_TIME,
-                     nullptr);
+        g_object_set(e, "max-bytes", static_cast<guint64>(0), "format", GST_FORMAT_TIME, nullptr);
       }
       g_value_reset(&v);
     }
@@ -175,9 +174,8 @@ inline std::string static_caps(const std::string &dims, const std::string &types
                                const std::string &rate = "0/1") {
   std::size_t n = 1;
   for (char c : types) n += (c == ',');
-  return "other/tensors,format=static,num_tensors=" + std::to_string(n) +
-         ",dimensions=(string)\"" + dims + "\",types=(string)\"" + types +
-         "\",framerate=(fraction)" + rate;
+  return "other/tensors,format=static,num_tensors=" + std::to_string(n) + ",dimensions=(string)\"" +
+         dims + "\",types=(string)\"" + types + "\",framerate=(fraction)" + rate;
 }
 
 }  // namespace nns::test

@@ -13,12 +13,15 @@ using nns::test::Frame;
 using nns::test::static_caps;
 
 TEST(Join, ForwardsEveryBufferFromEveryPadAndEndsAfterAll) {
-  AppPipeline p("appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
-                "join name=join ! appsink name=out");
+  AppPipeline p(
+      "appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
+      "join name=join ! appsink name=out");
   p.set_caps("a", static_caps("2", "uint8"));
   p.set_caps("b", static_caps("2", "uint8"));
-  for (int i = 0; i < 4; ++i) p.push("a", Frame({Bytes{0, static_cast<uint8_t>(i)}}, i * GST_MSECOND));
-  for (int i = 0; i < 3; ++i) p.push("b", Frame({Bytes{1, static_cast<uint8_t>(i)}}, i * GST_MSECOND));
+  for (int i = 0; i < 4; ++i)
+    p.push("a", Frame({Bytes{0, static_cast<uint8_t>(i)}}, i * GST_MSECOND));
+  for (int i = 0; i < 3; ++i)
+    p.push("b", Frame({Bytes{1, static_cast<uint8_t>(i)}}, i * GST_MSECOND));
   p.eos("a");
   p.eos("b");
   auto r = p.run(10);
@@ -49,8 +52,9 @@ TEST(Join, ForwardsEveryBufferFromEveryPadAndEndsAfterAll) {
 }
 
 TEST(Join, SwitchesCapsWithTheActivePad) {
-  AppPipeline p("appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
-                "join name=join ! appsink name=out");
+  AppPipeline p(
+      "appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
+      "join name=join ! appsink name=out");
   p.set_caps("a", static_caps("2", "uint8"));
   p.set_caps("b", static_caps("1", "float32"));
   p.push("a", Frame({Bytes{5, 6}}, 0));

@@ -20,7 +20,8 @@ Bytes raw_frame() {
   Bytes b(3 * 6 * 4);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 6; ++x)
-      for (int c = 0; c < 3; ++c) b[(y * 6 + x) * 3 + c] = static_cast<uint8_t>(10 * y + x + 100 * c);
+      for (int c = 0; c < 3; ++c)
+        b[(y * 6 + x) * 3 + c] = static_cast<uint8_t>(10 * y + x + 100 * c);
   return b;
 }
 
@@ -75,7 +76,8 @@ void expect_region(const Bytes &mem, int x, int y, int w, int h) {
   auto hd = nns::parse_meta_header(mem.data(), mem.size());
   EXPECT_EQ(hd.format, nns::TensorFormat::kFlexible);
   EXPECT_EQ(hd.type, nns::TensorType::kUInt8);
-  EXPECT_EQ(nns::dims_to_string(hd.dims), "3:" + std::to_string(w) + ":" + std::to_string(h) + ":1");
+  EXPECT_EQ(nns::dims_to_string(hd.dims),
+            "3:" + std::to_string(w) + ":" + std::to_string(h) + ":1");
   EXPECT_EQ(Bytes(mem.begin() + nns::kMetaHeaderSize, mem.end()), expected_crop(x, y, w, h));
 }
 
@@ -97,8 +99,9 @@ TEST(TensorCrop, StaticRawUint32Regions) {
 }
 
 TEST(TensorCrop, FlexibleRawUint16RegionsAndZeroSizeMeansToTheEdge) {
-  auto c = run_crop(kFlex, {Frame({with_header(nns::TensorType::kUInt8, {3, 6, 4, 1}, raw_frame())}, 0)},
-                    {Frame({info_of<uint16_t>({2, 1, 0, 0})}, 0)});
+  auto c =
+      run_crop(kFlex, {Frame({with_header(nns::TensorType::kUInt8, {3, 6, 4, 1}, raw_frame())}, 0)},
+               {Frame({info_of<uint16_t>({2, 1, 0, 0})}, 0)});
   ASSERT_TRUE(c.r.eos) << c.r.error_text;
   ASSERT_EQ(c.out.size(), 1u);
   expect_region(c.out[0].mems[0], 2, 1, 4, 3);
@@ -116,16 +119,16 @@ TEST(TensorCrop, RegionOutsideTheFrameIsABusError) {
   auto c = run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)},
                     {Frame({info_of<uint32_t>({0, 0, 1, 1, 6, 0, 2, 2})}, 0)});
   ASSERT_TRUE(c.r.error);
-  EXPECT_NE(c.r.error_text.find(
-                "crop: crop region 1 (x=6, y=0, w=2, h=2) starts outside the 6x4 frame"),
-            std::string::npos)
+  EXPECT_NE(
+      c.r.error_text.find("crop: crop region 1 (x=6, y=0, w=2, h=2) starts outside the 6x4 frame"),
+      std::string::npos)
       << c.r.error_text;
 }
 
 TEST(TensorCrop, MalformedInfoAndRawAreBusErrors) {
   Bytes bad_info = with_header(nns::TensorType::kUInt32, {3}, Bytes(12, 0));
-  auto c = run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)},
-                    {Frame({bad_info}, 0)});
+  auto c =
+      run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)}, {Frame({bad_info}, 0)});
   ASSERT_TRUE(c.r.error);
   EXPECT_NE(c.r.error_text.find("crop info has 12 bytes of uint32, not a whole number"),
             std::string::npos)
@@ -135,8 +138,8 @@ TEST(TensorCrop, MalformedInfoAndRawAreBusErrors) {
   ASSERT_TRUE(c.r.error);
   EXPECT_NE(c.r.error_text.find("info pad: flexible tensor memory of 16 bytes"), std::string::npos)
       << c.r.error_text;
-  c = run_crop(static_caps("3:6:4:2", "uint8"),
-               {Frame({raw_frame()}, 0)}, {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 0)});
+  c = run_crop(static_caps("3:6:4:2", "uint8"), {Frame({raw_frame()}, 0)},
+               {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 0)});
   ASSERT_TRUE(c.r.error);
 }
 
@@ -144,8 +147,7 @@ TEST(TensorCrop, LatenessDropsTheOlderBuffer) {
   // raw at 0, 100 ms; info at 100 ms only: with lateness 20 ms raw@0 is dropped.
   auto c = run_crop(static_caps("3:6:4:1", "uint8"),
                     {Frame({raw_frame()}, 0), Frame({raw_frame()}, 100 * GST_MSECOND)},
-                    {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 100 * GST_MSECOND)},
-                    "lateness=20");
+                    {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 100 * GST_MSECOND)}, "lateness=20");
   ASSERT_TRUE(c.r.eos) << c.r.error_text;
   ASSERT_EQ(c.out.size(), 1u);
   EXPECT_EQ(c.out[0].pts, 100 * GST_MSECOND);

@@ -97,8 +97,7 @@ TEST(TensorDebug, DefaultLogsCapsOnceToStdoutAndPassesDataThrough) {
   ASSERT_TRUE(c.r.eos) << c.r.error_text;
   ASSERT_EQ(c.out.size(), 1u);
   EXPECT_EQ(c.out[0].rfind("[dbg] caps: other/tensors", 0), 0u) << c.out[0];
-  EXPECT_NE(c.out[0].find("| static, 2 tensor(s): [0] uint8 4, [1] float32 2\n"),
-            std::string::npos)
+  EXPECT_NE(c.out[0].find("| static, 2 tensor(s): [0] uint8 4, [1] float32 2\n"), std::string::npos)
       << c.out[0];
   EXPECT_TRUE(c.err.empty());
   auto in = static_frames();
@@ -182,9 +181,9 @@ TEST(TensorDebug, FlagAndEnumTypesAsUpstream) {
   struct {
     const char *nick;
     guint value;
-  } flags[] = {{"disabled", 0},         {"console-info", 0x11},  {"console-warn", 0x12},
-               {"console-error", 0x13}, {"gstdebug-info", 0x24}, {"gstdebug-warn", 0x28},
-               {"gstdebug-error", 0x2C}, {"circularbuf", 0x100}, {"filewrite", 0x200}};
+  } flags[] = {{"disabled", 0},          {"console-info", 0x11},  {"console-warn", 0x12},
+               {"console-error", 0x13},  {"gstdebug-info", 0x24}, {"gstdebug-warn", 0x28},
+               {"gstdebug-error", 0x2C}, {"circularbuf", 0x100},  {"filewrite", 0x200}};
   for (const auto &f : flags) {
     GFlagsValue *v = g_flags_get_value_by_nick(out->flags_class, f.nick);
     ASSERT_NE(v, nullptr) << f.nick;

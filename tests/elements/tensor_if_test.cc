@@ -110,21 +110,24 @@ TEST(TensorIf, FloatElementOfSecondTensor) {
 
 TEST(TensorIf, TensorAverageValue) {
   // average of uint8 {i, 2i, 0, 1} = (3i+1)/4, cast to uint8: >= 4 when 3i+1 >= 16 -> i >= 5
-  auto res = route("compared-value=TENSOR_AVERAGE_VALUE compared-value-option=0 operator=GE "
-                   "supplied-value=4");
+  auto res = route(
+      "compared-value=TENSOR_AVERAGE_VALUE compared-value-option=0 operator=GE "
+      "supplied-value=4");
   ASSERT_TRUE(res.r.eos) << res.r.error_text;
   EXPECT_EQ(ids(res.then_out), (std::vector<int>{5, 6, 7, 8, 9}));
   // float average of {i/2, -i} = -i/4 < -1.5 -> i > 6
-  res = route("compared-value=TENSOR_AVERAGE_VALUE compared-value-option=1 operator=LT "
-              "supplied-value=-1.5");
+  res = route(
+      "compared-value=TENSOR_AVERAGE_VALUE compared-value-option=1 operator=LT "
+      "supplied-value=-1.5");
   ASSERT_TRUE(res.r.eos) << res.r.error_text;
   EXPECT_EQ(ids(res.then_out), (std::vector<int>{7, 8, 9}));
 }
 
 TEST(TensorIf, SkipAndTensorPick) {
-  auto res = route("compared-value-option=0,0 operator=LT supplied-value=3 then=TENSORPICK "
-                   "then-option=1 else=SKIP",
-                   1);
+  auto res = route(
+      "compared-value-option=0,0 operator=LT supplied-value=3 then=TENSORPICK "
+      "then-option=1 else=SKIP",
+      1);
   ASSERT_TRUE(res.r.eos) << res.r.error_text;
   ASSERT_EQ(res.then_out.size(), 3u);
   auto in = frames();
@@ -136,9 +139,10 @@ TEST(TensorIf, SkipAndTensorPick) {
   EXPECT_NE(res.then_out[0].caps.find("types=(string)float32"), std::string::npos)
       << res.then_out[0].caps;
   // else branch picks tensors 1 then 0 (order kept, duplicates allowed)
-  res = route("compared-value-option=0,0 operator=LT supplied-value=3 then=SKIP "
-              "else=TENSORPICK else-option=1,0",
-              2);
+  res = route(
+      "compared-value-option=0,0 operator=LT supplied-value=3 then=SKIP "
+      "else=TENSORPICK else-option=1,0",
+      2);
   ASSERT_TRUE(res.r.eos) << res.r.error_text;
   ASSERT_EQ(res.else_out.size(), 7u);
   EXPECT_EQ(res.else_out[0].mems[0], in[3].mems[1]);

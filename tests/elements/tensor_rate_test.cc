@@ -49,9 +49,9 @@ RateRun run_rate(int n, int fps, const std::string &props) {
   GstPad *pad = gst_element_get_static_pad(src, "src");
   gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_EVENT_UPSTREAM, catch_qos, &rr.qos, nullptr);
   for (int i = 0; i < n; ++i)
-    p.push("src", Frame({Bytes{static_cast<uint8_t>(i), 7}},
-                        gst_util_uint64_scale(i, GST_SECOND, fps),
-                        gst_util_uint64_scale(1, GST_SECOND, fps)));
+    p.push("src",
+           Frame({Bytes{static_cast<uint8_t>(i), 7}}, gst_util_uint64_scale(i, GST_SECOND, fps),
+                 gst_util_uint64_scale(1, GST_SECOND, fps)));
   p.eos("src");
   rr.r = p.run(10);
   rr.out = p.frames("out");
@@ -74,8 +74,7 @@ TEST(TensorRate, DownConvert30To10) {
     EXPECT_EQ(rr.out[k].mems[0][0], k < 10 ? 3 * k : 29) << k;
     EXPECT_FALSE(rr.out[k].gap);
   }
-  EXPECT_NE(rr.out[0].caps.find("framerate=(fraction)10/1"), std::string::npos)
-      << rr.out[0].caps;
+  EXPECT_NE(rr.out[0].caps.find("framerate=(fraction)10/1"), std::string::npos) << rr.out[0].caps;
   EXPECT_EQ(rr.in, 30u);
   EXPECT_EQ(rr.outc, 11u);
   EXPECT_EQ(rr.drop, 19u);

@@ -25,8 +25,8 @@ const char *kF4Caps =
     "framerate=(fraction)0/1";
 
 std::string repo_src(int slot, const std::string &caps, const std::string &extra = "") {
-  return "tensor_reposrc name=rsrc slot-index=" + std::to_string(slot) + " caps=\"" + caps +
-         "\" " + extra;
+  return "tensor_reposrc name=rsrc slot-index=" + std::to_string(slot) + " caps=\"" + caps + "\" " +
+         extra;
 }
 
 // Runs `f` on another thread; false if it did not finish within `seconds` (a hang).
@@ -84,8 +84,7 @@ TEST(TensorRepo, RecurrenceThroughTheApplicationMatchesReference) {
       ref = step(ref, t);
       std::vector<float> next = step(h, t);
       Frame nf({nns::test::bytes_of(next)}, static_cast<GstClockTime>(t) * GST_MSECOND);
-      EXPECT_EQ(gst_app_src_push_buffer(GST_APP_SRC(in), nns::test::make_buffer(nf)),
-                GST_FLOW_OK);
+      EXPECT_EQ(gst_app_src_push_buffer(GST_APP_SRC(in), nns::test::make_buffer(nf)), GST_FLOW_OK);
     }
     // EOS on the writer side ends the reader side.
     gst_app_src_end_of_stream(GST_APP_SRC(in));
@@ -114,8 +113,7 @@ TEST(TensorRepo, SinkCapsThatDisagreeWithCapsPropertyAreABusError) {
   p.eos("in");
   auto r = p.run(10);
   ASSERT_TRUE(r.error) << (r.timed_out ? "timed out" : "eos");
-  EXPECT_NE(r.error_text.find("rsrc: slot 31: caps property"), std::string::npos)
-      << r.error_text;
+  EXPECT_NE(r.error_text.find("rsrc: slot 31: caps property"), std::string::npos) << r.error_text;
   EXPECT_NE(r.error_text.find("(float32 5) disagrees with the caps tensor_reposink stored"),
             std::string::npos)
       << r.error_text;
@@ -136,7 +134,9 @@ TEST(TensorRepo, MissingOrBadCapsPropertyIsABusError) {
 }
 
 std::atomic<int> g_alive{0};
-void buffer_gone(gpointer, GstMiniObject *) { --g_alive; }
+void buffer_gone(gpointer, GstMiniObject *) {
+  --g_alive;
+}
 
 GstPadProbeReturn track_buffer(GstPad *, GstPadProbeInfo *info, gpointer) {
   GstBuffer *b = GST_PAD_PROBE_INFO_BUFFER(info);
@@ -159,8 +159,7 @@ TEST(TensorRepo, HundredPlayingNullCyclesNoHangNoLeak) {
   GstElement *out = gst_bin_get_by_name(GST_BIN(pipe), "out");
   std::atomic<int> handoffs{0};
   g_object_set(out, "signal-handoffs", TRUE, nullptr);
-  g_signal_connect(out, "handoff",
-                   G_CALLBACK(+[](GstElement *, GstBuffer *, GstPad *, gpointer c) {
+  g_signal_connect(out, "handoff", G_CALLBACK(+[](GstElement *, GstBuffer *, GstPad *, gpointer c) {
                      ++*static_cast<std::atomic<int> *>(c);
                    }),
                    &handoffs);

@@ -45,8 +45,8 @@ TEST(TensorSparseEnc, EncodesToUpstreamByteLayout) {
 }
 
 TEST(TensorSparseEnc, RoundTripEveryTypeMultiTensor) {
-  const char *types[] = {"int32", "uint32", "int16", "uint16", "int8", "uint8",
-                         "float64", "float32", "int64", "uint64"};
+  const char *types[] = {"int32", "uint32",  "int16",   "uint16", "int8",
+                         "uint8", "float64", "float32", "int64",  "uint64"};
   std::mt19937 rng(3);
   for (const char *t : types) {
     AppPipeline p("appsrc name=src ! tensor_sparse_enc ! tensor_sparse_dec ! appsink name=out");
@@ -73,7 +73,8 @@ TEST(TensorSparseEnc, RoundTripEveryTypeMultiTensor) {
     }
     EXPECT_NE(out[0].caps.find("dimensions=(string)\"3:4:2\\,5\""), std::string::npos)
         << out[0].caps;
-    EXPECT_NE(out[0].caps.find("types=(string)\"" + std::string(t) + "\\,uint8\""), std::string::npos)
+    EXPECT_NE(out[0].caps.find("types=(string)\"" + std::string(t) + "\\,uint8\""),
+              std::string::npos)
         << out[0].caps;
     EXPECT_NE(out[0].caps.find("framerate=(fraction)30/1"), std::string::npos) << out[0].caps;
   }

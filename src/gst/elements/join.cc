@@ -30,8 +30,8 @@ G_END_DECLS
 namespace {
 
 struct JoinPriv {
-  std::mutex lock;       // pads, active, eos flags
-  std::mutex push_lock;  // one buffer (with its pad switch) at a time
+  std::mutex lock;               // pads, active, eos flags
+  std::mutex push_lock;          // one buffer (with its pad switch) at a time
   std::map<GstPad *, bool> eos;  // sink pad -> received EOS
   GstPad *active = nullptr;      // not owned (the element owns its pads)
   bool eos_sent = false;
@@ -116,8 +116,7 @@ static gboolean join_sink_event(GstPad *pad, GstObject *parent, GstEvent *event)
     switch (GST_EVENT_TYPE(event)) {
       case GST_EVENT_STREAM_START: {
         // Downstream gets one stream-start: from the first pad that has one.
-        nns::gst::EventPtr have(
-            gst_pad_get_sticky_event(self->srcpad, GST_EVENT_STREAM_START, 0));
+        nns::gst::EventPtr have(gst_pad_get_sticky_event(self->srcpad, GST_EVENT_STREAM_START, 0));
         forward = !have;
         break;
       }

@@ -75,10 +75,12 @@ static GstStaticPadTemplate raw_template = GST_STATIC_PAD_TEMPLATE(
                     "framerate = (fraction) [ 0, max ]"));
 static GstStaticPadTemplate info_template = GST_STATIC_PAD_TEMPLATE(
     "info", GST_PAD_SINK, GST_PAD_ALWAYS,
-    GST_STATIC_CAPS("other/tensors, format = (string) flexible, framerate = (fraction) [ 0, max ]"));
+    GST_STATIC_CAPS(
+        "other/tensors, format = (string) flexible, framerate = (fraction) [ 0, max ]"));
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
-    GST_STATIC_CAPS("other/tensors, format = (string) flexible, framerate = (fraction) [ 0, max ]"));
+    GST_STATIC_CAPS(
+        "other/tensors, format = (string) flexible, framerate = (fraction) [ 0, max ]"));
 
 static void crop_pad_destroy(GstCollectData *data) {
   delete reinterpret_cast<CropPad *>(data)->config;
@@ -104,7 +106,8 @@ static gboolean crop_sink_event(GstCollectPads *pads, GstCollectData *data, GstE
       return TRUE;
     });
   }
-  if (GST_EVENT_TYPE(event) == GST_EVENT_STREAM_START || GST_EVENT_TYPE(event) == GST_EVENT_SEGMENT) {
+  if (GST_EVENT_TYPE(event) == GST_EVENT_STREAM_START ||
+      GST_EVENT_TYPE(event) == GST_EVENT_SEGMENT) {
     gst_event_unref(event);  // the src pad gets its own
     return TRUE;
   }
@@ -120,7 +123,8 @@ static void negotiate(GstTensorCrop *self) {
   for (CropPad *cp : {self->raw_data, self->info_data}) {
     const auto &c = *cp->config;
     if (c.rate_n < 0 || c.rate_d <= 0) continue;
-    if (out.rate_n < 0 || gst_util_fraction_compare(c.rate_n, c.rate_d, out.rate_n, out.rate_d) < 0) {
+    if (out.rate_n < 0 ||
+        gst_util_fraction_compare(c.rate_n, c.rate_d, out.rate_n, out.rate_d) < 0) {
       out.rate_n = c.rate_n;
       out.rate_d = c.rate_d;
     }
@@ -181,8 +185,8 @@ static GstBuffer *do_crop(GstTensorCrop *self, GstBuffer *raw, GstBuffer *info) 
   const uint32_t ch = t.dims[0] ? t.dims[0] : 1, width = t.dims[1] ? t.dims[1] : 1,
                  height = t.dims[2] ? t.dims[2] : 1;
   if (std::size_t(ch) * width * height != t.element_count())
-    nns::fail(nns::ErrorKind::kStream, "raw tensor " + t.to_string() +
-                                           " is not one NHWC frame (channel:width:height:1)");
+    nns::fail(nns::ErrorKind::kStream,
+              "raw tensor " + t.to_string() + " is not one NHWC frame (channel:width:height:1)");
   const std::size_t esize = nns::type_size(t.type);
   nns::gst::BufferPtr out(gst_buffer_new());
   for (std::size_t i = 0; i < regions.size(); ++i) {
@@ -193,10 +197,9 @@ static GstBuffer *do_crop(GstTensorCrop *self, GstBuffer *raw, GstBuffer *info) 
                        r.to_string().c_str());
       if (!self->priv->warned_clip) {
         self->priv->warned_clip = true;
-        NNS_POST_WARNING(self, "crop region " + std::to_string(i) + " " +
-                                   regions[i].to_string() + " reaches past the " +
-                                   std::to_string(width) + "x" + std::to_string(height) +
-                                   " frame; clipped to " + r.to_string());
+        NNS_POST_WARNING(self, "crop region " + std::to_string(i) + " " + regions[i].to_string() +
+                                   " reaches past the " + std::to_string(width) + "x" +
+                                   std::to_string(height) + " frame; clipped to " + r.to_string());
       }
     }
     nns::MetaHeader oh;
@@ -237,7 +240,8 @@ static GstFlowReturn crop_collected(GstCollectPads *pads, gpointer user) {
       if (diff > GstClockTime(lateness) * GST_MSECOND) {
         // Drop the older buffer and wait for its next one.
         CropPad *older = tr < ti ? self->raw_data : self->info_data;
-        GST_DEBUG_OBJECT(self, "raw %" GST_TIME_FORMAT " / info %" GST_TIME_FORMAT
+        GST_DEBUG_OBJECT(self,
+                         "raw %" GST_TIME_FORMAT " / info %" GST_TIME_FORMAT
                          " differ by more than %d ms: dropping %s",
                          GST_TIME_ARGS(tr), GST_TIME_ARGS(ti), lateness,
                          GST_PAD_NAME(older->data.pad));
@@ -330,8 +334,8 @@ static void gst_tensor_crop_class_init(GstTensorCropClass *klass) {
   g_object_class_install_property(
       gobject_class, PROP_LATENESS,
       g_param_spec_int("lateness", "Lateness",
-                       "Largest time difference between raw and info buffers in ms (-1 = off)",
-                       -1, G_MAXINT, -1, rw));
+                       "Largest time difference between raw and info buffers in ms (-1 = off)", -1,
+                       G_MAXINT, -1, rw));
   g_object_class_install_property(
       gobject_class, PROP_SILENT,
       g_param_spec_boolean("silent", "Silent", "Do not log per-frame details", TRUE, rw));
@@ -360,8 +364,8 @@ static void gst_tensor_crop_init(GstTensorCrop *self) {
       gst_collect_pads_add_pad(self->collect, self->raw, sizeof(CropPad), crop_pad_destroy, TRUE));
   self->raw_data->config = new nns::TensorsConfig();
   self->raw_data->has_caps = false;
-  self->info_data = reinterpret_cast<CropPad *>(gst_collect_pads_add_pad(
-      self->collect, self->info, sizeof(CropPad), crop_pad_destroy, TRUE));
+  self->info_data = reinterpret_cast<CropPad *>(
+      gst_collect_pads_add_pad(self->collect, self->info, sizeof(CropPad), crop_pad_destroy, TRUE));
   self->info_data->config = new nns::TensorsConfig();
   self->info_data->has_caps = false;
 }

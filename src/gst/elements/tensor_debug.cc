@@ -121,8 +121,9 @@ struct _GstTensorDebug {
 G_DEFINE_TYPE(GstTensorDebug, gst_tensor_debug, GST_TYPE_BASE_TRANSFORM)
 GST_ELEMENT_REGISTER_DEFINE(tensor_debug, "tensor_debug", GST_RANK_NONE, GST_TYPE_TENSOR_DEBUG)
 
-#define DBG_CAPS \
-  "other/tensors, format = (string) { static, flexible, sparse }, framerate = (fraction) [ 0, max ]"
+#define DBG_CAPS                                                                                \
+  "other/tensors, format = (string) { static, flexible, sparse }, framerate = (fraction) [ 0, " \
+  "max ]"
 
 static GstStaticPadTemplate sink_template =
     GST_STATIC_PAD_TEMPLATE("sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(DBG_CAPS));
@@ -178,7 +179,8 @@ static gboolean tensor_debug_set_caps(GstBaseTransform *trans, GstCaps *in, GstC
       NNS_POST_WARNING(self, "output-method circularbuf/filewrite is not implemented; ignored");
     }
     if (s.cap != Capability::kDisabled)
-      emit(self, s.out, "caps: " + p->caps_text + " | " + nns::tdbg::describe_tensors(p->config.info));
+      emit(self, s.out,
+           "caps: " + p->caps_text + " | " + nns::tdbg::describe_tensors(p->config.info));
     return TRUE;
   });
 }
@@ -317,4 +319,6 @@ static void gst_tensor_debug_class_init(GstTensorDebugClass *klass) {
   trans_class->start = tensor_debug_start;
 }
 
-static void gst_tensor_debug_init(GstTensorDebug *self) { self->priv = new DebugPriv(); }
+static void gst_tensor_debug_init(GstTensorDebug *self) {
+  self->priv = new DebugPriv();
+}

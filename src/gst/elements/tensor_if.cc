@@ -153,9 +153,9 @@ struct _GstTensorIf {
 G_DEFINE_TYPE(GstTensorIf, gst_tensor_if, GST_TYPE_ELEMENT)
 GST_ELEMENT_REGISTER_DEFINE(tensor_if, "tensor_if", GST_RANK_NONE, GST_TYPE_TENSOR_IF)
 
-#define TIF_CAPS                                     \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], "  \
+#define TIF_CAPS                                                              \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
+  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
   "framerate = (fraction) [ 0, max ]"
 
 static GstStaticPadTemplate sink_template =
@@ -287,8 +287,7 @@ static GstFlowReturn tensor_if_chain(GstPad *, GstObject *parent, GstBuffer *buf
     // Frames that a pad does not get are announced as gaps, so its sink prerolls.
     for (int o = 0; o < 2; ++o) {
       Branch &other = st->br[o];
-      if ((o == b && br.action != Action::kSkip) || !other.pad ||
-          !GST_BUFFER_PTS_IS_VALID(buf))
+      if ((o == b && br.action != Action::kSkip) || !other.pad || !GST_BUFFER_PTS_IS_VALID(buf))
         continue;
       gst_pad_push_event(other.pad,
                          gst_event_new_gap(GST_BUFFER_PTS(buf), GST_BUFFER_DURATION(buf)));
@@ -418,10 +417,11 @@ static void gst_tensor_if_class_init(GstTensorIfClass *klass) {
   g_object_class_install_property(
       gobject_class, PROP_SILENT,
       g_param_spec_boolean("silent", "Silent", "Do not log each decision", TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CV,
-      g_param_spec_enum("compared-value", "CV", "What is compared: one element, a tensor's "
-                        "average or a custom callback", compared_value_get_type(), 0, rw));
+  g_object_class_install_property(gobject_class, PROP_CV,
+                                  g_param_spec_enum("compared-value", "CV",
+                                                    "What is compared: one element, a tensor's "
+                                                    "average or a custom callback",
+                                                    compared_value_get_type(), 0, rw));
   g_object_class_install_property(
       gobject_class, PROP_CV_OPTION,
       g_param_spec_string("compared-value-option", "CV_OPTION",
@@ -429,8 +429,8 @@ static void gst_tensor_if_class_init(GstTensorIfClass *klass) {
                           rw));
   g_object_class_install_property(
       gobject_class, PROP_SV,
-      g_param_spec_string("supplied-value", "SV", "Value (or 'low,high' range) to compare with",
-                          "", rw));
+      g_param_spec_string("supplied-value", "SV", "Value (or 'low,high' range) to compare with", "",
+                          rw));
   g_object_class_install_property(
       gobject_class, PROP_OP,
       g_param_spec_enum("operator", "OP", "Comparison operator", operator_get_type(), 0, rw));
@@ -448,8 +448,8 @@ static void gst_tensor_if_class_init(GstTensorIfClass *klass) {
                         behavior_get_type(), 0, rw));
   g_object_class_install_property(
       gobject_class, PROP_ELSE_OPTION,
-      g_param_spec_string("else-option", "ELSE_OPTION", "Tensors to pick (TENSORPICK), e.g. 1",
-                          "", rw));
+      g_param_spec_string("else-option", "ELSE_OPTION", "Tensors to pick (TENSORPICK), e.g. 1", "",
+                          rw));
   gst_element_class_set_static_metadata(element_class, "TensorIf", "Filter/Tensor",
                                         "Routes tensor frames by a condition on their values",
                                         "nnstreamer-cpp");

@@ -62,9 +62,9 @@ struct _GstTensorRate {
 G_DEFINE_TYPE(GstTensorRate, gst_tensor_rate, GST_TYPE_BASE_TRANSFORM)
 GST_ELEMENT_REGISTER_DEFINE(tensor_rate, "tensor_rate", GST_RANK_NONE, GST_TYPE_TENSOR_RATE)
 
-#define RATE_CAPS                                    \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], "  \
+#define RATE_CAPS                                                             \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
+  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
   "framerate = (fraction) [ 0, max ]"
 
 static GstStaticPadTemplate sink_template =
@@ -182,8 +182,8 @@ static GstCaps *tensor_rate_transform_caps(GstBaseTransform *trans, GstPadDirect
       gst_structure_set(s, "framerate", GST_TYPE_FRACTION, rn, rd, nullptr);
     else
       gst_structure_set(s, "framerate", GST_TYPE_FRACTION_RANGE, 0, 1, G_MAXINT, 1, nullptr);
-    result = gst_caps_merge_structure_full(
-        result, s, gst_caps_features_copy(gst_caps_get_features(caps, i)));
+    result = gst_caps_merge_structure_full(result, s,
+                                           gst_caps_features_copy(gst_caps_get_features(caps, i)));
   }
   if (filter && gst_caps_get_size(filter) > 0) {
     GstCaps *both = gst_caps_intersect_full(filter, result, GST_CAPS_INTERSECT_FIRST);
@@ -199,8 +199,8 @@ static GstCaps *tensor_rate_fixate_caps(GstBaseTransform *, GstPadDirection, Gst
   if (!gst_structure_get_fraction(gst_caps_get_structure(caps, 0), "framerate", &n, &d))
     return gst_caps_fixate(othercaps);
   othercaps = gst_caps_make_writable(gst_caps_truncate(othercaps));
-  gst_structure_fixate_field_nearest_fraction(gst_caps_get_structure(othercaps, 0), "framerate",
-                                              n, d);
+  gst_structure_fixate_field_nearest_fraction(gst_caps_get_structure(othercaps, 0), "framerate", n,
+                                              d);
   return gst_caps_fixate(othercaps);
 }
 
@@ -232,9 +232,8 @@ static gboolean tensor_rate_sink_event(GstBaseTransform *trans, GstEvent *event)
     std::lock_guard<std::mutex> l(p->lock);
     if (!p->prev) return;
     GstFlowReturn ret;
-    p->adj.drain([&](uint64_t pts, uint64_t dur, bool dup) {
-      return push_prev(self, pts, dur, dup, &ret);
-    });
+    p->adj.drain(
+        [&](uint64_t pts, uint64_t dur, bool dup) { return push_prev(self, pts, dur, dup, &ret); });
     publish(p);
     swap_prev(p, nullptr);
   };
@@ -244,8 +243,7 @@ static gboolean tensor_rate_sink_event(GstBaseTransform *trans, GstEvent *event)
       gst_event_copy_segment(event, &seg);
       if (seg.format != GST_FORMAT_TIME) {
         NNS_POST_ERROR(self, nns::ErrorKind::kStream,
-                       std::string("needs a TIME segment, got ") +
-                           gst_format_get_name(seg.format));
+                       std::string("needs a TIME segment, got ") + gst_format_get_name(seg.format));
         gst_event_unref(event);
         return FALSE;
       }
@@ -404,13 +402,12 @@ static void gst_tensor_rate_class_init(GstTensorRateClass *klass) {
   pspec_dup = g_param_spec_uint64("duplicate", "Duplicate", "Frames sent more than once", 0,
                                   G_MAXUINT64, 0, ro);
   g_object_class_install_property(gobject_class, PROP_DUP, pspec_dup);
-  pspec_drop =
-      g_param_spec_uint64("drop", "Drop", "Frames dropped", 0, G_MAXUINT64, 0, ro);
+  pspec_drop = g_param_spec_uint64("drop", "Drop", "Frames dropped", 0, G_MAXUINT64, 0, ro);
   g_object_class_install_property(gobject_class, PROP_DROP, pspec_drop);
   g_object_class_install_property(
       gobject_class, PROP_SILENT,
-      g_param_spec_boolean("silent", "Silent",
-                           "Do not log or notify dropped/duplicated frames", TRUE, rw));
+      g_param_spec_boolean("silent", "Silent", "Do not log or notify dropped/duplicated frames",
+                           TRUE, rw));
   g_object_class_install_property(
       gobject_class, PROP_THROTTLE,
       g_param_spec_boolean("throttle", "Throttle",
@@ -419,8 +416,7 @@ static void gst_tensor_rate_class_init(GstTensorRateClass *klass) {
   g_object_class_install_property(
       gobject_class, PROP_FRAMERATE,
       g_param_spec_string("framerate", "Framerate",
-                          "Output frame rate N/D (e.g. 10/1); empty keeps the input rate", "",
-                          rw));
+                          "Output frame rate N/D (e.g. 10/1); empty keeps the input rate", "", rw));
   gst_element_class_set_static_metadata(element_class, "TensorRate", "Filter/Tensor",
                                         "Adjusts the frame rate of a tensor stream",
                                         "nnstreamer-cpp");

@@ -58,9 +58,9 @@ G_DEFINE_TYPE(GstTensorRepoSink, gst_tensor_reposink, GST_TYPE_BASE_SINK)
 GST_ELEMENT_REGISTER_DEFINE(tensor_reposink, "tensor_reposink", GST_RANK_NONE,
                             GST_TYPE_TENSOR_REPOSINK)
 
-#define REPO_CAPS                                    \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], "  \
+#define REPO_CAPS                                                             \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
+  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
   "framerate = (fraction) [ 0, max ]"
 
 static GstStaticPadTemplate sink_template =
@@ -137,7 +137,8 @@ static gboolean reposink_unlock_stop(GstBaseSink *sink) {
 static gboolean reposink_event(GstBaseSink *sink, GstEvent *event) {
   auto *p = GST_TENSOR_REPOSINK(sink)->priv;
   if (GST_EVENT_TYPE(event) == GST_EVENT_EOS) nns::gst::TensorRepo::instance().set_eos(p->slot);
-  if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP) nns::gst::TensorRepo::instance().reset(p->slot);
+  if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP)
+    nns::gst::TensorRepo::instance().reset(p->slot);
   return GST_BASE_SINK_CLASS(gst_tensor_reposink_parent_class)->event(sink, event);
 }
 

@@ -69,9 +69,9 @@ G_DEFINE_TYPE(GstTensorRepoSrc, gst_tensor_reposrc, GST_TYPE_PUSH_SRC)
 GST_ELEMENT_REGISTER_DEFINE(tensor_reposrc, "tensor_reposrc", GST_RANK_NONE,
                             GST_TYPE_TENSOR_REPOSRC)
 
-#define REPO_CAPS                                    \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], "  \
+#define REPO_CAPS                                                             \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
+  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
   "framerate = (fraction) [ 0, max ]"
 
 static GstStaticPadTemplate src_template =
@@ -277,17 +277,16 @@ static void gst_tensor_reposrc_class_init(GstTensorRepoSrcClass *klass) {
   auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
   g_object_class_install_property(
       gobject_class, PROP_CAPS,
-      g_param_spec_boxed("caps", "Caps", "Caps of the frames in the slot (required)",
-                         GST_TYPE_CAPS, rw));
+      g_param_spec_boxed("caps", "Caps", "Caps of the frames in the slot (required)", GST_TYPE_CAPS,
+                         rw));
   g_object_class_install_property(
       gobject_class, PROP_SLOT,
-      g_param_spec_uint("slot-index", "Slot Index", "Repository slot to read", 0, G_MAXUINT - 1,
-                        0, rw));
+      g_param_spec_uint("slot-index", "Slot Index", "Repository slot to read", 0, G_MAXUINT - 1, 0,
+                        rw));
   g_object_class_install_property(
       gobject_class, PROP_SILENT,
       g_param_spec_boolean("silent", "Silent", "Do not log each hand-off", TRUE, rw));
-  gst_element_class_set_static_metadata(element_class, "TensorRepoSrc",
-                                        "Source/Tensor/Repository",
+  gst_element_class_set_static_metadata(element_class, "TensorRepoSrc", "Source/Tensor/Repository",
                                         "Reads tensor frames from a repository slot",
                                         "nnstreamer-cpp");
   gst_element_class_add_static_pad_template(element_class, &src_template);

@@ -113,8 +113,8 @@ static GstFlowReturn sparse_dec_chain(GstPad *, GstObject *parent, GstBuffer *bu
     nns::gst::BufferPtr out(gst_buffer_new());
     for (guint i = 0; i < n; ++i) {
       nns::gst::MemoryMap m(gst_buffer_peek_memory(buf, i), GST_MAP_READ);
-      if (!m.ok()) nns::fail(nns::ErrorKind::kStream, "cannot map sparse tensor " +
-                                                          std::to_string(i));
+      if (!m.ok())
+        nns::fail(nns::ErrorKind::kStream, "cannot map sparse tensor " + std::to_string(i));
       nns::MetaHeader h;
       try {
         h = nns::sparse_parse(m.data(), m.size());
