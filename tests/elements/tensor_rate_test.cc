@@ -3,9 +3,12 @@
 // throttle QoS events upstream (type, diff, count), properties and bus errors.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cstring>
 #include <mutex>
 
 #include "elements/flow_harness.h"
+#include "tensor_filter_custom_easy.h"
 
 namespace {
 
@@ -151,6 +154,50 @@ TEST(TensorRate, BadFramerateAndVariableInputAreBusErrors) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("needs an input with a known rate"), std::string::npos)
       << r.error_text;
+}
+
+std::atomic<int> g_invocations{0};
+int count_copy(void *, const GstTensorFilterProperties *, const GstTensorMemory *in,
+               GstTensorMemory *out) {
+  ++g_invocations;
+  std::memcpy(out[0].data, in[0].data, in[0].size);
+  return 0;
+}
+
+// tensor_filter honours the THROTTLE QoS: with throttle=true it skips the frames tensor_rate
+// would drop (30 fps in, 10 fps out), with throttle=false it runs on every frame.
+TEST(TensorRate, ThrottleMakesAnUpstreamFilterSkipFrames) {
+  GstTensorsInfo info{};
+  info.num_tensors = 1;
+  info.info[0].type = _NNS_UINT8;
+  info.info[0].dimension[0] = 2;
+  info.format = _NNS_TENSOR_FORMAT_STATIC;
+  ASSERT_EQ(NNS_custom_easy_register("flow_rate_count", count_copy, nullptr, &info, &info), 0);
+  for (bool throttle : {true, false}) {
+    g_invocations = 0;
+    AppPipeline p(
+        "appsrc name=src ! tensor_filter framework=custom-easy model=flow_rate_count ! "
+        "tensor_rate framerate=10/1 throttle=" +
+        std::string(throttle ? "true" : "false") + " ! appsink name=out");
+    p.set_caps("src", static_caps("2", "uint8", "30/1"));
+    for (int i = 0; i < 30; ++i)
+      p.push("src",
+             Frame({Bytes{static_cast<uint8_t>(i), 0}}, gst_util_uint64_scale(i, GST_SECOND, 30),
+                   gst_util_uint64_scale(1, GST_SECOND, 30)));
+    p.eos("src");
+    auto r = p.run(10);
+    ASSERT_TRUE(r.eos) << r.error_text;
+    if (throttle) {
+      EXPECT_LE(g_invocations.load(), 14) << "filter was not throttled";
+      EXPECT_GE(g_invocations.load(), 9);
+      EXPECT_GE(p.frames("out").size(), 9u);
+    } else {
+      // (No output count here: tensor_filter currently announces downstream's 10/1 instead of
+      // its input's 30/1, which makes tensor_rate pass through.)
+      EXPECT_EQ(g_invocations.load(), 30);
+    }
+  }
+  EXPECT_EQ(NNS_custom_easy_unregister("flow_rate_count"), 0);
 }
 
 TEST(TensorRate, PropertiesAsUpstream) {
