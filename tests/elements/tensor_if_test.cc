@@ -260,3 +260,19 @@ TEST(TensorIf, EnumsAndDefaultsAsUpstream) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every frame goes to src_1: the sink on src_0 prerolls on the GAP events and the pipeline
+// still ends (clock-synced sinks, no hang).
+TEST(TensorIf, BranchWithoutDataDoesNotBlockPrerollOrEos) {
+  auto r = nns::test::run_pipeline(
+      "videotestsrc num-buffers=6 ! video/x-raw,format=GRAY8,width=4,height=4,framerate=60/1 ! "
+      "tensor_converter ! tensor_if name=tif compared-value-option=0:0:0:0,0 operator=GT "
+      "supplied-value=1000 tif.src_0 ! queue ! fakesink sync=true "
+      "tif.src_1 ! queue ! fakesink sync=true",
+      10);
+  EXPECT_TRUE(r.eos) << r.error_text << (r.timed_out ? " (timed out)" : "");
+}
+
+}  // namespace
