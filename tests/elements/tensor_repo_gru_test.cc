@@ -4,14 +4,18 @@
 // and every step's output must match torch.nn.GRUCell run step by step (tests/data/flow/
 // gru_cell.py generates the weights, the input sequence and the reference at build time).
 //
-// tensor_mux and the pytorch/onnxruntime filter back ends are not on main yet, so the cell is a
-// custom-easy filter computing torch's GRUCell equations in C++ with torch's weights, and the
-// input x_t is taken by the cell from the generated sequence (one per invocation) instead of
-// arriving through a mux. The recurrence itself - state out of the filter, through the
-// repository, back into the filter - is the pipeline's.
+// Two versions:
+//  - BackEnd/*: the full RNN pipeline. x_t comes from an appsrc, h_t from tensor_reposrc;
+//    tensor_mux sync-mode=nosync pairs them; tensor_filter runs the torch-exported cell
+//    (framework=pytorch with gru_cell.pt, framework=onnxruntime with gru_cell.onnx); the new
+//    state goes to tensor_reposink and to the test. Skipped when the back end is not built.
+//  - CustomEasy: the cell is a custom-easy filter computing torch's GRUCell equations in C++
+//    with torch's weights, taking x_t from the sequence itself (no mux): the repository loop
+//    alone.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
@@ -118,5 +122,70 @@ TEST(TensorRepoGru, RecurrentStateThroughTheRepositoryMatchesTorch) {
   }
   EXPECT_EQ(NNS_custom_easy_unregister("flow_gru_cell"), 0);
 }
+
+// The full RNN pipeline with a real back end.
+struct BackEnd {
+  const char *framework, *model;
+  bool needs_shapes;  // TorchScript records no shapes: give input=/output=
+};
+
+class TensorRepoGruBackEnd : public ::testing::TestWithParam<BackEnd> {};
+
+TEST_P(TensorRepoGruBackEnd, MuxFilterRepositoryCycleMatchesTorch) {
+  const BackEnd &be = GetParam();
+  GruData d;
+  std::string dir = NNS_FLOW_DATA_DIR;
+  if (!load(dir + "/gru_cell.bin", &d)) GTEST_SKIP() << "gru_cell.bin missing (no python3-torch?)";
+  std::string model = dir + "/" + be.model;
+  if (!std::ifstream(model)) GTEST_SKIP() << model << " missing";
+  const char *filters = std::getenv("NNSTREAMER_FILTERS");
+  std::string lib =
+      std::string(filters ? filters : "") + "/libnnstreamer_filter_" + be.framework + ".so";
+  if (!std::ifstream(lib)) GTEST_SKIP() << lib << " not built";
+  auto caps = [](int n) {
+    return "other/tensors,format=static,num_tensors=1,dimensions=(string)" + std::to_string(n) +
+           ":1,types=(string)float32,framerate=(fraction)0/1";
+  };
+  std::string props;
+  if (be.needs_shapes)
+    props = "input=" + std::to_string(d.I) + ":1," + std::to_string(d.H) +
+            ":1 inputtype=float32,float32 output=" + std::to_string(d.H) + ":1 outputtype=float32";
+  AppPipeline p(
+      "appsrc name=x ! mux.sink_0 "
+      "tensor_reposrc slot-index=71 caps=\"" +
+      caps(d.H) +
+      "\" ! mux.sink_1 "
+      "tensor_mux name=mux sync-mode=nosync ! "
+      "tensor_filter framework=" +
+      std::string(be.framework) + " model=" + model + " " + props +
+      " ! tee name=t "
+      "t. ! queue ! tensor_reposink slot-index=71 "
+      "t. ! queue ! appsink name=out");
+  ASSERT_NE(p.pipeline(), nullptr);
+  p.set_caps("x", caps(d.I));
+  for (int t = 0; t < d.T; ++t) {
+    std::vector<float> x(d.x.begin() + t * d.I, d.x.begin() + (t + 1) * d.I);
+    p.push("x",
+           nns::test::Frame({nns::test::bytes_of(x)}, static_cast<GstClockTime>(t) * GST_MSECOND));
+  }
+  p.eos("x");
+  auto r = p.run(30);
+  ASSERT_TRUE(r.eos) << r.error_text << (r.timed_out ? " (timed out: deadlock?)" : "");
+  auto out = p.frames("out");
+  ASSERT_EQ(out.size(), static_cast<std::size_t>(d.T));
+  for (int t = 0; t < d.T; ++t) {
+    auto h = nns::test::values_of<float>(out[t].mems.at(0));
+    ASSERT_EQ(h.size(), static_cast<std::size_t>(d.H));
+    for (int j = 0; j < d.H; ++j)
+      EXPECT_NEAR(h[j], d.ref[t * d.H + j], 1e-5) << be.framework << " step " << t + 1;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BackEnds, TensorRepoGruBackEnd,
+                         ::testing::Values(BackEnd{"pytorch", "gru_cell.pt", true},
+                                           BackEnd{"onnxruntime", "gru_cell.onnx", false}),
+                         [](const ::testing::TestParamInfo<BackEnd> &i) {
+                           return std::string(i.param.framework);
+                         });
 
 }  // namespace
