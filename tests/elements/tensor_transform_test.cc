@@ -2,6 +2,7 @@
 // tensor_transform through GStreamer: every mode x every type with exact bytes (GstHarness),
 // apply, flexible streams, caps negotiation with equivalent dimension spellings, property
 // changes while playing, and the bus error of each kind of bad input.
+#include <gst/app/gstappsink.h>
 #include <gst/check/gstharness.h>
 #include <gtest/gtest.h>
 
@@ -420,3 +421,86 @@ TEST(TensorTransformErrors, DownstreamRefusesTheResult) {
 }
 
 }  // namespace
+
+// ---- with tensor_converter --------------------------------------------------------------
+
+namespace {
+
+// Runs `desc` (ending in "appsink name=out") and returns the tensors of every buffer.
+std::vector<std::vector<Bytes>> collect(const std::string &desc, std::string *caps_out = nullptr) {
+  GError *err = nullptr;
+  nns::gst::ElementPtr p(gst_parse_launch(desc.c_str(), &err));
+  EXPECT_EQ(err, nullptr) << (err ? err->message : "");
+  if (err) g_error_free(err);
+  std::vector<std::vector<Bytes>> frames;
+  if (!p) return frames;
+  GstElement *sink = gst_bin_get_by_name(GST_BIN(p.get()), "out");
+  g_object_set(sink, "sync", FALSE, nullptr);
+  gst_element_set_state(p.get(), GST_STATE_PLAYING);
+  while (GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 5 * GST_SECOND)) {
+    frames.push_back(tensors_of(gst_sample_get_buffer(s)));
+    if (caps_out) *caps_out = nns::gst::caps_to_string(gst_sample_get_caps(s));
+    gst_sample_unref(s);
+  }
+  gst_element_set_state(p.get(), GST_STATE_NULL);
+  gst_object_unref(sink);
+  return frames;
+}
+
+const char *kVideo = "videotestsrc num-buffers=2 pattern=%s ! video/x-raw,format=RGB,width=4,height=4 ! "
+                     "tensor_converter ! ";
+
+std::string video(const char *pattern) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, kVideo, pattern);
+  return buf;
+}
+
+}  // namespace
+
+TEST(TensorTransformPipeline, ConverterThenNormalise) {
+  std::string caps;
+  auto frames = collect(video("white") +
+                            "tensor_transform mode=arithmetic "
+                            "option=typecast:float32,add:-127.5,div:127.5 ! appsink name=out",
+                        &caps);
+  ASSERT_EQ(frames.size(), 2u);
+  for (const auto &f : frames) {
+    ASSERT_EQ(f.size(), 1u);
+    EXPECT_EQ(f[0], typed(TensorType::kFloat32, std::initializer_list<double>{
+                                                     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+                                                     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+                                                     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
+  }
+  EXPECT_NE(caps.find("float32"), std::string::npos) << caps;
+  EXPECT_NE(caps.find("3:4:4"), std::string::npos) << caps;
+}
+
+TEST(TensorTransformPipeline, ConverterPerChannelAndTranspose) {
+  // Red pixels (255, 0, 0): per-channel add in int16, then HWC -> CHW with a downstream
+  // capsfilter spelled without the trailing :1.
+  auto frames = collect(video("red") +
+                        "tensor_transform mode=arithmetic "
+                        "option=typecast:int16,per-channel:true@0,add:1:2:3 ! "
+                        "tensor_transform mode=transpose option=1:2:0:3 ! "
+                        "other/tensors,format=static,num_tensors=1,dimensions=4:4:3,types=int16 ! "
+                        "appsink name=out");
+  ASSERT_EQ(frames.size(), 2u);
+  ASSERT_EQ(frames[0].size(), 1u);
+  Bytes want;
+  for (double v : {256.0, 2.0, 3.0}) {
+    Bytes plane = typed(TensorType::kInt16, {v, v, v, v, v, v, v, v, v, v, v, v, v, v, v, v});
+    want.insert(want.end(), plane.begin(), plane.end());
+  }
+  EXPECT_EQ(frames[0][0], want);
+}
+
+TEST(TensorTransformPipeline, ConverterErrors) {
+  auto r = run_pipeline(video("black") + "tensor_transform name=tt mode=typecast option=int8 apply=1 ! fakesink");
+  expect_error(r, {"property 'apply'", "index 1 is out of range"});
+  r = run_pipeline(video("black") + "tensor_transform name=tt mode=arithmetic option=per-channel:true@0,add:1@3 ! fakesink");
+  expect_error(r, {"tensor 0", "'add:1@3' names channel 3", "3 channels"});
+  r = run_pipeline(video("black") + "tensor_transform name=tt mode=typecast option=float32 ! "
+                   "other/tensors,format=static,types=uint8 ! fakesink");
+  expect_error(r, {"cannot negotiate", "float32", "downstream accepts only"});
+}
