@@ -15,7 +15,9 @@ using nns::TensorInfo;
 using nns::TensorType;
 using namespace nns::transform;
 
-TensorInfo image(TensorType t) { return TensorInfo{"", t, nns::make_dims({3, 224, 224, 1})}; }
+TensorInfo image(TensorType t) {
+  return TensorInfo{"", t, nns::make_dims({3, 224, 224, 1})};
+}
 
 std::vector<uint8_t> random_bytes(std::size_t n) {
   std::mt19937 rng(7);
@@ -54,23 +56,22 @@ BENCHMARK_CAPTURE(run_plan_bench, normalize_u8_f32, Mode::kArithmetic,
                   "typecast:float32,add:-127.5,div:127.5", TensorType::kUInt8, true);
 BENCHMARK_CAPTURE(run_plan_bench, normalize_u8_f32_reference, Mode::kArithmetic,
                   "typecast:float32,add:-127.5,div:127.5", TensorType::kUInt8, false);
-BENCHMARK_CAPTURE(run_plan_bench, typecast_u8_f32, Mode::kTypecast, "float32",
-                  TensorType::kUInt8, true);
+BENCHMARK_CAPTURE(run_plan_bench, typecast_u8_f32, Mode::kTypecast, "float32", TensorType::kUInt8,
+                  true);
 BENCHMARK_CAPTURE(run_plan_bench, per_channel_mean_std_u8_f32, Mode::kArithmetic,
                   "typecast:float32,per-channel:true@0,add:-123.68:-116.78:-103.94,"
                   "div:58.4:57.12:57.38",
                   TensorType::kUInt8, true);
-BENCHMARK_CAPTURE(run_plan_bench, typecast_f32_u8, Mode::kTypecast, "uint8",
-                  TensorType::kFloat32, true);
+BENCHMARK_CAPTURE(run_plan_bench, typecast_f32_u8, Mode::kTypecast, "uint8", TensorType::kFloat32,
+                  true);
 BENCHMARK_CAPTURE(run_plan_bench, arith_u8_int, Mode::kArithmetic, "mul:2,add:3",
                   TensorType::kUInt8, true);
 BENCHMARK_CAPTURE(run_plan_bench, transpose_hwc_chw_u8, Mode::kTranspose, "1:2:0:3",
                   TensorType::kUInt8, true);
-BENCHMARK_CAPTURE(run_plan_bench, dimchg_0_2_f32, Mode::kDimchg, "0:2", TensorType::kFloat32,
-                  true);
+BENCHMARK_CAPTURE(run_plan_bench, dimchg_0_2_f32, Mode::kDimchg, "0:2", TensorType::kFloat32, true);
 BENCHMARK_CAPTURE(run_plan_bench, clamp_f32, Mode::kClamp, "-1:1", TensorType::kFloat32, true);
-BENCHMARK_CAPTURE(run_plan_bench, stand_default_f32, Mode::kStand, "default",
-                  TensorType::kFloat32, true);
+BENCHMARK_CAPTURE(run_plan_bench, stand_default_f32, Mode::kStand, "default", TensorType::kFloat32,
+                  true);
 BENCHMARK_CAPTURE(run_plan_bench, padding_u8, Mode::kPadding, "left:2,right:2,top:2,bottom:2",
                   TensorType::kUInt8, true);
 

@@ -14,17 +14,18 @@
 namespace nns::transform {
 namespace {
 
-constexpr std::size_t kBlock = 1024;          // elements converted then operated on in L1
-constexpr std::size_t kMaxPeriod = 65536;     // largest per-channel constant table
+constexpr std::size_t kBlock = 1024;       // elements converted then operated on in L1
+constexpr std::size_t kMaxPeriod = 65536;  // largest per-channel constant table
 constexpr std::size_t kMaxSimdOps = 16;
 
-uint32_t dim1(const TensorInfo &t, std::size_t i) { return i < t.rank() ? t.dims[i] : 1; }
+uint32_t dim1(const TensorInfo &t, std::size_t i) {
+  return i < t.rank() ? t.dims[i] : 1;
+}
 
 // Error text is built out of line: GCC 12 at -O3 warns falsely (-Wrestrict) on inlined
 // std::string concatenation.
 [[noreturn, gnu::noinline, gnu::cold]] void fail_div_zero(const Options &opts,
-                                                          const std::string &token,
-                                                          TensorType t) {
+                                                          const std::string &token, TensorType t) {
   std::string msg = "property 'option' '";
   msg.append(opts.option).append("' for mode=").append(mode_name(opts.mode)).append(": '");
   msg.append(token);
@@ -242,8 +243,9 @@ void run_padding(const Plan &p, const uint8_t *src, uint8_t *dst) {
   for (std::size_t o = 0; o < p.pouter; ++o)
     for (std::size_t z = 0; z < p.pin[2]; ++z)
       for (std::size_t y = 0; y < p.pin[1]; ++y) {
-        std::size_t oi = ((o * p.pout[2] + z + p.pbefore[2]) * p.pout[1] + y + p.pbefore[1]) *
-                             p.pout[0] + p.pbefore[0];
+        std::size_t oi =
+            ((o * p.pout[2] + z + p.pbefore[2]) * p.pout[1] + y + p.pbefore[1]) * p.pout[0] +
+            p.pbefore[0];
         std::size_t ii = ((o * p.pin[2] + z) * p.pin[1] + y) * p.pin[0];
         std::memcpy(dst + oi * es, src + ii * es, row);
       }
@@ -323,7 +325,7 @@ void plan_arith(Plan &p, const Options &opts, bool accelerate) {
     p.layout = P <= kMaxPeriod ? ArithLayout::kPeriodic : ArithLayout::kBlocked;
     p.period = P;
   }
-  const std::size_t len = p.layout == ArithLayout::kUniform    ? 1
+  const std::size_t len = p.layout == ArithLayout::kUniform   ? 1
                           : p.layout == ArithLayout::kBlocked ? p.channels
                                                               : p.period;
   dispatch_type(p.out.type, [&](auto to) {
@@ -351,9 +353,9 @@ void plan_arith(Plan &p, const Options &opts, bool accelerate) {
   if (p.out.type == TensorType::kFloat32 && simd::supports_f32_input(p.in.type) &&
       p.ops.size() <= kMaxSimdOps) {
     for (const auto &op : p.ops)
-      p.simd_ops.push_back(simd::Op{static_cast<int>(op.kind), op.values.as<float>()[0],
-                                    p.layout == ArithLayout::kPeriodic ? op.values.as<float>()
-                                                                       : nullptr});
+      p.simd_ops.push_back(
+          simd::Op{static_cast<int>(op.kind), op.values.as<float>()[0],
+                   p.layout == ArithLayout::kPeriodic ? op.values.as<float>() : nullptr});
     p.fn = run_arith_simd;
     return;
   }

@@ -60,7 +60,7 @@ inline int32_t trunc_to_i32(double x) {
 }
 inline int64_t trunc_to_i64(double x) {
   return (x >= -9223372036854775808.0 && x < 9223372036854775808.0) ? static_cast<int64_t>(x)
-                                                                       : INT64_MIN;
+                                                                    : INT64_MIN;
 }
 
 // Converts one value with NNStreamer's C-cast semantics (gst_tensor_data_typecast on x86-64):

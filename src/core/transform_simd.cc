@@ -19,7 +19,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 using DF = hn::ScalableTag<float>;
 using VF = hn::Vec<DF>;
 
-HWY_INLINE VF LoadF32(DF df, const float *p) { return hn::LoadU(df, p); }
+HWY_INLINE VF LoadF32(DF df, const float *p) {
+  return hn::LoadU(df, p);
+}
 HWY_INLINE VF LoadF32(DF df, const int32_t *p) {
   return hn::ConvertTo(df, hn::LoadU(hn::Rebind<int32_t, DF>(), p));
 }
@@ -72,8 +74,8 @@ HWY_INLINE float OpScalar(float v, float c) {
 // Uniform constants and at most two operations known at compile time: a straight-line loop,
 // unrolled by two vectors, with the constants broadcast once.
 template <typename In, int K0, int K1>
-HWY_NOINLINE void ArithUniform2(const In *HWY_RESTRICT in, float *HWY_RESTRICT out,
-                                std::size_t n, float c0, float c1) {
+HWY_NOINLINE void ArithUniform2(const In *HWY_RESTRICT in, float *HWY_RESTRICT out, std::size_t n,
+                                float c0, float c1) {
   const DF df;
   const std::size_t N = hn::Lanes(df);
   const VF v0 = hn::Set(df, c0), v1 = hn::Set(df, c1);
@@ -175,7 +177,9 @@ void ArithF32(int in_type, const void *in, float *out, std::size_t n, const Op *
   }
 }
 
-int64_t Target() { return HWY_TARGET; }
+int64_t Target() {
+  return HWY_TARGET;
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace nns::transform::simd
@@ -206,12 +210,14 @@ void arith_f32(TensorType in_type, const void *in, float *out, std::size_t n, co
   HWY_DYNAMIC_DISPATCH(ArithF32)(static_cast<int>(in_type), in, out, n, ops, nops, period);
 }
 
-const char *target_name() { return hwy::TargetName(HWY_DYNAMIC_DISPATCH(Target)()); }
+const char *target_name() {
+  return hwy::TargetName(HWY_DYNAMIC_DISPATCH(Target)());
+}
 
 }  // namespace nns::transform::simd
 #endif  // HWY_ONCE
 
-#else  // !NNS_HAVE_HWY: plain loops (the build normally has libhwy-dev)
+#else   // !NNS_HAVE_HWY: plain loops (the build normally has libhwy-dev)
 namespace nns::transform::simd {
 namespace {
 template <typename In>
@@ -252,7 +258,9 @@ void arith_f32(TensorType t, const void *in, float *out, std::size_t n, const Op
   }
 }
 
-const char *target_name() { return "scalar (built without Highway)"; }
+const char *target_name() {
+  return "scalar (built without Highway)";
+}
 
 }  // namespace nns::transform::simd
 #endif  // NNS_HAVE_HWY
