@@ -363,6 +363,27 @@ TEST(TransformGolden, Padding) {
             (std::vector<uint8_t>{0, 1, 0, 2, 0, 3, 0, 4}));
 }
 
+TEST(TransformGolden, TypecastSpecialFloatsMatchReference) {
+  // NaN, infinities and values beyond int32 through the SIMD float32 -> int path.
+  std::vector<float> in;
+  for (int i = 0; i < 5; ++i)
+    for (float v : {NAN, INFINITY, -INFINITY, 3e9f, -3e9f, 1e20f, -2147483648.0f, 2147483520.0f,
+                    -0.7f, 255.5f, 65535.9f, -32769.2f})
+      in.push_back(v);
+  auto src = bytes_of(in);
+  TensorInfo t = info(TensorType::kFloat32, {static_cast<uint32_t>(in.size())});
+  for (const char *to :
+       {"int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64"}) {
+    auto o = parse_options(Mode::kTypecast, to);
+    EXPECT_EQ(run_plan(o, t, src, true), run_ref(o, t, src)) << to;
+  }
+  auto u8 = values_of<uint8_t>(run_plan(parse_options(Mode::kTypecast, "uint8"), t, src, true));
+  EXPECT_EQ(u8[0], 0);    // NaN -> INT32_MIN -> low byte 0
+  EXPECT_EQ(u8[9], 255);  // 255.5 truncates to 255
+  auto u32 = values_of<uint32_t>(run_plan(parse_options(Mode::kTypecast, "uint32"), t, src, true));
+  EXPECT_EQ(u32[3], 2147483648u);  // 3e9 goes through int32 as upstream does
+}
+
 TEST(TransformPlan, IdentityAndErrors) {
   EXPECT_TRUE(
       make_plan(parse_options(Mode::kTypecast, "uint8"), info(TensorType::kUInt8, {3}), true)
