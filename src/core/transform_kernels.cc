@@ -294,6 +294,16 @@ void run_padding(const Plan &p, const uint8_t *src, uint8_t *dst) {
   const std::size_t es = type_size(p.in.type);
   std::memset(dst, 0, p.out.byte_size());
   const std::size_t row = p.pin[0] * es;
+  if (p.pout[0] == p.pin[0]) {  // dimension 0 not padded: each plane's rows are contiguous
+    for (std::size_t o = 0; o < p.pouter; ++o)
+      for (std::size_t z = 0; z < p.pin[2]; ++z) {
+        std::size_t oi =
+            ((o * p.pout[2] + z + p.pbefore[2]) * p.pout[1] + p.pbefore[1]) * p.pout[0];
+        std::size_t ii = (o * p.pin[2] + z) * p.pin[1] * p.pin[0];
+        std::memcpy(dst + oi * es, src + ii * es, row * p.pin[1]);
+      }
+    return;
+  }
   for (std::size_t o = 0; o < p.pouter; ++o)
     for (std::size_t z = 0; z < p.pin[2]; ++z)
       for (std::size_t y = 0; y < p.pin[1]; ++y) {
