@@ -47,7 +47,7 @@ inline uint16_t float_to_half(float v) {
     return static_cast<uint16_t>(sign | 0x7c00u | (man ? (0x200u | (man >> 13)) : 0u));
   int e = static_cast<int>(exp) - 127 + 15;
   if (e >= 0x1f) return static_cast<uint16_t>(sign | 0x7c00u);  // overflow
-  if (e <= 0) {                                                  // subnormal or zero
+  if (e <= 0) {                                                 // subnormal or zero
     if (e < -10) return sign;
     man |= 0x800000u;
     uint32_t shift = static_cast<uint32_t>(14 - e);

@@ -5,6 +5,7 @@
 // arithmetic/typecast hot path uses the Highway kernel (transform_simd.cc).
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <numeric>
 
 #include "core/error.h"
@@ -14,17 +15,18 @@
 namespace nns::transform {
 namespace {
 
-constexpr std::size_t kBlock = 1024;          // elements converted then operated on in L1
-constexpr std::size_t kMaxPeriod = 65536;     // largest per-channel constant table
+constexpr std::size_t kBlock = 1024;       // elements converted then operated on in L1
+constexpr std::size_t kMaxPeriod = 65536;  // largest per-channel constant table
 constexpr std::size_t kMaxSimdOps = 16;
 
-uint32_t dim1(const TensorInfo &t, std::size_t i) { return i < t.rank() ? t.dims[i] : 1; }
+uint32_t dim1(const TensorInfo &t, std::size_t i) {
+  return i < t.rank() ? t.dims[i] : 1;
+}
 
 // Error text is built out of line: GCC 12 at -O3 warns falsely (-Wrestrict) on inlined
 // std::string concatenation.
 [[noreturn, gnu::noinline, gnu::cold]] void fail_div_zero(const Options &opts,
-                                                          const std::string &token,
-                                                          TensorType t) {
+                                                          const std::string &token, TensorType t) {
   std::string msg = "property 'option' '";
   msg.append(opts.option).append("' for mode=").append(mode_name(opts.mode)).append(": '");
   msg.append(token);
@@ -166,6 +168,29 @@ void run_arith_simd(const Plan &p, const uint8_t *src, uint8_t *dst) {
   }
 }
 
+void run_f32_to_int(const Plan &p, const uint8_t *src, uint8_t *dst) {
+  simd::f32_to_int(reinterpret_cast<const float *>(src), p.out.type, dst, p.count);
+}
+
+// [outer][n][C] -> [outer][C][n] (e.g. HWC -> CHW): axes[0] = (n, stride C), axes[1] = (C, 1).
+void run_deinterleave(const Plan &p, const uint8_t *src, uint8_t *dst) {
+  const auto &ax = p.axes;
+  const std::size_t es = type_size(p.in.type), n = ax[0].dim, C = ax[1].dim, nd = ax.size();
+  const std::size_t outer = p.count / (n * C);
+  std::size_t idx[kRankLimit] = {};
+  std::size_t base = 0;
+  for (std::size_t o = 0; o < outer; ++o) {
+    simd::deinterleave(es, C, src + base * es, dst, n);
+    dst += n * C * es;
+    for (std::size_t k = 2; k < nd; ++k) {
+      base += ax[k].in_stride;
+      if (++idx[k] < ax[k].dim) break;
+      base -= ax[k].in_stride * ax[k].dim;
+      idx[k] = 0;
+    }
+  }
+}
+
 template <typename E>
 void run_permute(const Plan &p, const uint8_t *src, uint8_t *dst) {
   const E *in = reinterpret_cast<const E *>(src);
@@ -194,37 +219,41 @@ void run_permute(const Plan &p, const uint8_t *src, uint8_t *dst) {
 
 template <typename In, typename Out>
 void run_stand(const Plan &p, const uint8_t *src, uint8_t *dst) {
-  const In *in = reinterpret_cast<const In *>(src);
-  Out *out = reinterpret_cast<Out *>(dst);
+  const In *__restrict in = reinterpret_cast<const In *>(src);
+  Out *__restrict out = reinterpret_cast<Out *>(dst);
   const std::size_t C = p.stand_mean.size(), per = p.count / C;
-  double *mean = p.stand_mean.data(), *sd = p.stand_std.data();
-  std::fill(mean, mean + C, 0.0);
-  std::fill(sd, sd + C, 0.0);
-  for (std::size_t o = 0; o < per; ++o)
-    for (std::size_t c = 0; c < C; ++c) mean[c] += cast_value<double>(in[o * C + c]);
-  for (std::size_t c = 0; c < C; ++c) mean[c] /= static_cast<double>(per);
   const bool full = p.stand_mode == StandMode::kDefault;
-  if (full) {
-    for (std::size_t o = 0; o < per; ++o)
-      for (std::size_t c = 0; c < C; ++c) {
-        double d = cast_value<double>(in[o * C + c]) - mean[c];
-        sd[c] += d * d;
+  // Channel by channel (C == 1 without per-channel), with local accumulators.
+  for (std::size_t c = 0; c < C; ++c) {
+    double sum = 0.0;
+    for (std::size_t o = 0; o < per; ++o) sum += cast_value<double>(in[o * C + c]);
+    const double mean = sum / static_cast<double>(per);
+    double sd = 1.0;
+    if (full) {
+      double sq = 0.0;
+      for (std::size_t o = 0; o < per; ++o) {
+        double d = cast_value<double>(in[o * C + c]) - mean;
+        sq += d * d;
       }
-    for (std::size_t c = 0; c < C; ++c) {
-      double v = sd[c] / static_cast<double>(per);
-      sd[c] = v != 0.0 ? std::sqrt(v) : 1e-10;
+      sq /= static_cast<double>(per);
+      sd = sq != 0.0 ? std::sqrt(sq) : 1e-10;
+    }
+    p.stand_mean[c] = mean;
+    p.stand_std[c] = sd;
+    if (full) {
+      for (std::size_t o = 0; o < per; ++o)
+        out[o * C + c] =
+            cast_value<Out>(std::fabs((cast_value<double>(in[o * C + c]) - mean) / sd));
+    } else {
+      for (std::size_t o = 0; o < per; ++o)
+        out[o * C + c] = cast_value<Out>(cast_value<double>(in[o * C + c]) - mean);
     }
   }
-  for (std::size_t o = 0; o < per; ++o)
-    for (std::size_t c = 0; c < C; ++c) {
-      double v = cast_value<double>(in[o * C + c]) - mean[c];
-      if (full) v = std::fabs(v / sd[c]);
-      out[o * C + c] = cast_value<Out>(v);
-    }
 }
 
+// Clamp through double, as upstream (64-bit integers and float16).
 template <typename T>
-void run_clamp(const Plan &p, const uint8_t *src, uint8_t *dst) {
+void run_clamp_double(const Plan &p, const uint8_t *src, uint8_t *dst) {
   const T *__restrict in = reinterpret_cast<const T *>(src);
   T *__restrict out = reinterpret_cast<T *>(dst);
   const double lo = p.lo, hi = p.hi;
@@ -235,15 +264,52 @@ void run_clamp(const Plan &p, const uint8_t *src, uint8_t *dst) {
   }
 }
 
+// Same results in the element type. float: comparing x with (float)hi decides like comparing
+// with hi in double (hi rounds to the nearest float); integers up to 32 bits: x > hi iff
+// x > floor(hi), x < lo iff x < ceil(lo).
+template <typename T>
+void run_clamp(const Plan &p, const uint8_t *src, uint8_t *dst) {
+  const T *__restrict in = reinterpret_cast<const T *>(src);
+  T *__restrict out = reinterpret_cast<T *>(dst);
+  const T rh = cast_value<T>(p.hi), rl = cast_value<T>(p.lo);
+  T th = rh, tl = rl;
+  if constexpr (std::is_integral_v<T>) {
+    const double fh = std::floor(p.hi), cl = std::ceil(p.lo);
+    const double tmin = static_cast<double>(std::numeric_limits<T>::min());
+    const double tmax = static_cast<double>(std::numeric_limits<T>::max());
+    if (fh < tmin || cl > tmax) {  // every value is above hi (or below lo)
+      std::fill(out, out + p.count, fh < tmin ? rh : rl);
+      return;
+    }
+    th = static_cast<T>(std::min(fh, tmax));
+    tl = static_cast<T>(std::max(cl, tmin));
+  }
+  for (std::size_t i = 0; i < p.count; ++i) {
+    const T x = in[i];
+    out[i] = x > th ? rh : (x < tl ? rl : x);
+  }
+}
+
 void run_padding(const Plan &p, const uint8_t *src, uint8_t *dst) {
   const std::size_t es = type_size(p.in.type);
   std::memset(dst, 0, p.out.byte_size());
   const std::size_t row = p.pin[0] * es;
+  if (p.pout[0] == p.pin[0]) {  // dimension 0 not padded: each plane's rows are contiguous
+    for (std::size_t o = 0; o < p.pouter; ++o)
+      for (std::size_t z = 0; z < p.pin[2]; ++z) {
+        std::size_t oi =
+            ((o * p.pout[2] + z + p.pbefore[2]) * p.pout[1] + p.pbefore[1]) * p.pout[0];
+        std::size_t ii = (o * p.pin[2] + z) * p.pin[1] * p.pin[0];
+        std::memcpy(dst + oi * es, src + ii * es, row * p.pin[1]);
+      }
+    return;
+  }
   for (std::size_t o = 0; o < p.pouter; ++o)
     for (std::size_t z = 0; z < p.pin[2]; ++z)
       for (std::size_t y = 0; y < p.pin[1]; ++y) {
-        std::size_t oi = ((o * p.pout[2] + z + p.pbefore[2]) * p.pout[1] + y + p.pbefore[1]) *
-                             p.pout[0] + p.pbefore[0];
+        std::size_t oi =
+            ((o * p.pout[2] + z + p.pbefore[2]) * p.pout[1] + y + p.pbefore[1]) * p.pout[0] +
+            p.pbefore[0];
         std::size_t ii = ((o * p.pin[2] + z) * p.pin[1] + y) * p.pin[0];
         std::memcpy(dst + oi * es, src + ii * es, row);
       }
@@ -272,6 +338,11 @@ void plan_permute(Plan &p, const Options &opts) {
   if (p.axes.empty() || (p.axes.size() == 1 && p.axes[0].in_stride == 1)) {
     p.identity = true;
     p.fn = run_copy;
+    return;
+  }
+  if (p.axes.size() >= 2 && p.axes[1].in_stride == 1 && p.axes[0].in_stride == p.axes[1].dim &&
+      p.axes[1].dim >= 2 && p.axes[1].dim <= 4) {
+    p.fn = run_deinterleave;  // interleaved channels to planes (HWC -> CHW)
     return;
   }
   switch (type_size(p.in.type)) {
@@ -323,7 +394,7 @@ void plan_arith(Plan &p, const Options &opts, bool accelerate) {
     p.layout = P <= kMaxPeriod ? ArithLayout::kPeriodic : ArithLayout::kBlocked;
     p.period = P;
   }
-  const std::size_t len = p.layout == ArithLayout::kUniform    ? 1
+  const std::size_t len = p.layout == ArithLayout::kUniform   ? 1
                           : p.layout == ArithLayout::kBlocked ? p.channels
                                                               : p.period;
   dispatch_type(p.out.type, [&](auto to) {
@@ -351,10 +422,15 @@ void plan_arith(Plan &p, const Options &opts, bool accelerate) {
   if (p.out.type == TensorType::kFloat32 && simd::supports_f32_input(p.in.type) &&
       p.ops.size() <= kMaxSimdOps) {
     for (const auto &op : p.ops)
-      p.simd_ops.push_back(simd::Op{static_cast<int>(op.kind), op.values.as<float>()[0],
-                                    p.layout == ArithLayout::kPeriodic ? op.values.as<float>()
-                                                                       : nullptr});
+      p.simd_ops.push_back(
+          simd::Op{static_cast<int>(op.kind), op.values.as<float>()[0],
+                   p.layout == ArithLayout::kPeriodic ? op.values.as<float>() : nullptr});
     p.fn = run_arith_simd;
+    return;
+  }
+  if (p.ops.empty() && p.in.type == TensorType::kFloat32 &&
+      simd::f32_to_int(nullptr, p.out.type, nullptr, 0)) {
+    p.fn = run_f32_to_int;  // typecast float32 -> 8/16/32-bit integers
     return;
   }
   dispatch_type(p.in.type, [&](auto ti) {
@@ -405,7 +481,13 @@ Plan make_plan(const Options &opts, const TensorInfo &in, bool accelerate) {
     case Mode::kClamp:
       p.lo = opts.get<ClampOptions>().min;
       p.hi = opts.get<ClampOptions>().max;
-      dispatch_type(in.type, [&](auto ti) { p.fn = run_clamp<typename decltype(ti)::type>; });
+      dispatch_type(in.type, [&](auto ti) {
+        using T = typename decltype(ti)::type;
+        if constexpr (std::is_same_v<T, Float16> || (sizeof(T) == 8 && std::is_integral_v<T>))
+          p.fn = run_clamp_double<T>;
+        else
+          p.fn = run_clamp<T>;
+      });
       break;
     case Mode::kPadding: {
       const auto &pd = opts.get<PaddingOptions>();

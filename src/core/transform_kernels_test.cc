@@ -75,7 +75,7 @@ std::vector<uint8_t> random_data(TensorType t, std::size_t n, uint32_t seed) {
 // ---- NNStreamer's value semantics -------------------------------------------------------
 
 TEST(TransformCast, CCastSemanticsOnX86) {
-  EXPECT_EQ(cast_value<uint8_t>(300.0f), 44);   // low byte of the int32 truncation
+  EXPECT_EQ(cast_value<uint8_t>(300.0f), 44);  // low byte of the int32 truncation
   EXPECT_EQ(cast_value<uint8_t>(-1.0f), 255);
   EXPECT_EQ(cast_value<uint8_t>(255.9f), 255);
   EXPECT_EQ(cast_value<int8_t>(-129.7), 127);
@@ -91,7 +91,8 @@ TEST(TransformCast, CCastSemanticsOnX86) {
   // Same as a C cast wherever the C cast is defined.
   for (float f : {-128.0f, -1.5f, 0.0f, 0.99f, 127.9f})
     EXPECT_EQ(cast_value<int8_t>(f), static_cast<int8_t>(f));
-  for (double d : {-2147483648.0, -1.5, 2147483647.0}) EXPECT_EQ(cast_value<int32_t>(d), static_cast<int32_t>(d));
+  for (double d : {-2147483648.0, -1.5, 2147483647.0})
+    EXPECT_EQ(cast_value<int32_t>(d), static_cast<int32_t>(d));
 }
 
 TEST(TransformCast, Float16) {
@@ -147,7 +148,8 @@ const Case kCases[] = {
     {Mode::kArithmetic, "typecast:uint8,add:200"},
     {Mode::kArithmetic, "typecast:float16,add:0.1,mul:3"},
     {Mode::kArithmetic, "per-channel:true@0,add:1@1,mul:2"},
-    {Mode::kArithmetic, "typecast:float32,per-channel:true@0,add:-123.68:-116.78:-103.94,div:58.4@0"},
+    {Mode::kArithmetic,
+     "typecast:float32,per-channel:true@0,add:-123.68:-116.78:-103.94,div:58.4@0"},
     {Mode::kArithmetic, "typecast:float32,per-channel:true@2,add:1:2:3:4,mul:3@1"},
     {Mode::kArithmetic, "typecast:int16,per-channel:true@1,mul:5@4,add:1"},
     {Mode::kArithmetic, "per-channel:false,add:2"},
@@ -168,9 +170,9 @@ const Case kCases[] = {
     {Mode::kPadding, "left:0"},
 };
 
-const TensorType kAllTypes[] = {TensorType::kInt8,   TensorType::kUInt8,  TensorType::kInt16,
-                                TensorType::kUInt16, TensorType::kInt32,  TensorType::kUInt32,
-                                TensorType::kInt64,  TensorType::kUInt64, TensorType::kFloat16,
+const TensorType kAllTypes[] = {TensorType::kInt8,    TensorType::kUInt8,  TensorType::kInt16,
+                                TensorType::kUInt16,  TensorType::kInt32,  TensorType::kUInt32,
+                                TensorType::kInt64,   TensorType::kUInt64, TensorType::kFloat16,
                                 TensorType::kFloat32, TensorType::kFloat64};
 
 class AllModesAllTypes : public ::testing::TestWithParam<std::tuple<TensorType, std::size_t>> {};
@@ -204,8 +206,7 @@ TEST_P(AllModesAllTypes, AcceleratedMatchesReference) {
   // A small odd shape (tails everywhere) and one large enough for the blocked per-channel
   // layout (channel block >= 64 elements) and several SIMD chunks.
   for (auto in : {info(type, {3, 5, 4, 2}), info(type, {3, 37, 5, 1}), info(type, {5, 40, 4})}) {
-    std::string what = std::string(type_name(type)) + " " + in.to_string() + " " +
-                       o.describe();
+    std::string what = std::string(type_name(type)) + " " + in.to_string() + " " + o.describe();
     std::vector<uint8_t> src = random_data(type, in.element_count(), 1234 + ci);
     std::vector<uint8_t> want, fast, slow;
     try {
@@ -232,16 +233,16 @@ TEST_P(AllModesAllTypes, AcceleratedMatchesReference) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Transform, AllModesAllTypes,
-    ::testing::Combine(::testing::ValuesIn(kAllTypes),
-                       ::testing::Range<std::size_t>(0, std::size(kCases))),
-    [](const auto &info) {
-      std::string name = std::string(type_name(std::get<0>(info.param))) + "_" +
-                         std::string(mode_name(kCases[std::get<1>(info.param)].mode)) + "_" +
-                         std::to_string(std::get<1>(info.param));
-      return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Transform, AllModesAllTypes,
+                         ::testing::Combine(::testing::ValuesIn(kAllTypes),
+                                            ::testing::Range<std::size_t>(0, std::size(kCases))),
+                         [](const auto &info) {
+                           std::string name =
+                               std::string(type_name(std::get<0>(info.param))) + "_" +
+                               std::string(mode_name(kCases[std::get<1>(info.param)].mode)) + "_" +
+                               std::to_string(std::get<1>(info.param));
+                           return name;
+                         });
 
 // ---- hand-computed goldens --------------------------------------------------------------
 
@@ -258,7 +259,8 @@ TEST(TransformGolden, Transpose) {
   // 2:3:1:1 with 1:0:2:3 swaps the two inner dimensions.
   auto o = parse_options(Mode::kTranspose, "1:0:2:3");
   std::vector<int16_t> in = {1, 2, 3, 4, 5, 6};
-  auto got = values_of<int16_t>(run_plan(o, info(TensorType::kInt16, {2, 3, 1, 1}), bytes_of(in), true));
+  auto got =
+      values_of<int16_t>(run_plan(o, info(TensorType::kInt16, {2, 3, 1, 1}), bytes_of(in), true));
   EXPECT_EQ(got, (std::vector<int16_t>{1, 3, 5, 2, 4, 6}));
 }
 
@@ -279,7 +281,8 @@ TEST(TransformGolden, ArithmeticIntegerWraps) {
   EXPECT_EQ(run_plan(o, info(TensorType::kUInt8, {3}), {200, 0, 127}, true),
             (std::vector<uint8_t>{73, 129, 0}));
   auto m = parse_options(Mode::kArithmetic, "mul:3,div:2");
-  EXPECT_EQ(values_of<int8_t>(run_plan(m, info(TensorType::kInt8, {3}), bytes_of(std::vector<int8_t>{100, -3, 7}), true)),
+  EXPECT_EQ(values_of<int8_t>(run_plan(m, info(TensorType::kInt8, {3}),
+                                       bytes_of(std::vector<int8_t>{100, -3, 7}), true)),
             (std::vector<int8_t>{(int8_t)(44 / 2), -4, 10}));  // 300 wraps to 44; -9/2 = -4
 }
 
@@ -308,8 +311,9 @@ TEST(TransformGolden, Typecast) {
             (std::vector<uint16_t>{0x5CB0, 0xBC00, 0x3F9A, 0x5BF8}));
   auto back = parse_options(Mode::kTypecast, "float32");
   std::vector<uint16_t> halves = {0x3C00, 0xC500, 0x7C00};
-  EXPECT_EQ(values_of<float>(run_plan(back, info(TensorType::kFloat16, {3}), bytes_of(halves), true)),
-            (std::vector<float>{1.0f, -5.0f, INFINITY}));
+  EXPECT_EQ(
+      values_of<float>(run_plan(back, info(TensorType::kFloat16, {3}), bytes_of(halves), true)),
+      (std::vector<float>{1.0f, -5.0f, INFINITY}));
 }
 
 TEST(TransformGolden, Stand) {
@@ -359,21 +363,50 @@ TEST(TransformGolden, Padding) {
             (std::vector<uint8_t>{0, 1, 0, 2, 0, 3, 0, 4}));
 }
 
+TEST(TransformGolden, TypecastSpecialFloatsMatchReference) {
+  // NaN, infinities and values beyond int32 through the SIMD float32 -> int path.
+  std::vector<float> in;
+  for (int i = 0; i < 5; ++i)
+    for (float v : {NAN, INFINITY, -INFINITY, 3e9f, -3e9f, 1e20f, -2147483648.0f, 2147483520.0f,
+                    -0.7f, 255.5f, 65535.9f, -32769.2f})
+      in.push_back(v);
+  auto src = bytes_of(in);
+  TensorInfo t = info(TensorType::kFloat32, {static_cast<uint32_t>(in.size())});
+  for (const char *to :
+       {"int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64"}) {
+    auto o = parse_options(Mode::kTypecast, to);
+    EXPECT_EQ(run_plan(o, t, src, true), run_ref(o, t, src)) << to;
+  }
+  auto u8 = values_of<uint8_t>(run_plan(parse_options(Mode::kTypecast, "uint8"), t, src, true));
+  EXPECT_EQ(u8[0], 0);    // NaN -> INT32_MIN -> low byte 0
+  EXPECT_EQ(u8[9], 255);  // 255.5 truncates to 255
+  auto u32 = values_of<uint32_t>(run_plan(parse_options(Mode::kTypecast, "uint32"), t, src, true));
+  EXPECT_EQ(u32[3], 2147483648u);  // 3e9 goes through int32 as upstream does
+}
+
 TEST(TransformPlan, IdentityAndErrors) {
-  EXPECT_TRUE(make_plan(parse_options(Mode::kTypecast, "uint8"), info(TensorType::kUInt8, {3}), true).identity);
+  EXPECT_TRUE(
+      make_plan(parse_options(Mode::kTypecast, "uint8"), info(TensorType::kUInt8, {3}), true)
+          .identity);
   // Moving a dimension of size 1 does not move bytes.
-  EXPECT_TRUE(make_plan(parse_options(Mode::kDimchg, "0:3"), info(TensorType::kUInt8, {1, 4, 4, 1}), true).identity);
-  EXPECT_FALSE(make_plan(parse_options(Mode::kDimchg, "0:2"), info(TensorType::kUInt8, {3, 4, 4, 1}), true).identity);
+  EXPECT_TRUE(
+      make_plan(parse_options(Mode::kDimchg, "0:3"), info(TensorType::kUInt8, {1, 4, 4, 1}), true)
+          .identity);
+  EXPECT_FALSE(
+      make_plan(parse_options(Mode::kDimchg, "0:2"), info(TensorType::kUInt8, {3, 4, 4, 1}), true)
+          .identity);
   try {
-    make_plan(parse_options(Mode::kArithmetic, "typecast:int32,div:0.5"), info(TensorType::kUInt8, {3}), true);
+    make_plan(parse_options(Mode::kArithmetic, "typecast:int32,div:0.5"),
+              info(TensorType::kUInt8, {3}), true);
     ADD_FAILURE() << "no error";
   } catch (const Error &e) {
     EXPECT_NE(std::string(e.what()).find("'div:0.5' divides by zero (the value is 0 in int32)"),
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(make_plan(parse_options(Mode::kArithmetic, "div:0"), info(TensorType::kFloat32, {3}), true),
-               Error);
+  EXPECT_THROW(
+      make_plan(parse_options(Mode::kArithmetic, "div:0"), info(TensorType::kFloat32, {3}), true),
+      Error);
   // Per-channel division by 0 only on a channel the op does not apply to is fine.
   EXPECT_NO_THROW(make_plan(parse_options(Mode::kArithmetic, "per-channel:true@0,div:2@1"),
                             info(TensorType::kUInt8, {3}), true));

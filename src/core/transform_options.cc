@@ -20,7 +20,9 @@ std::string lower(std::string_view s) {
   return out;
 }
 
-std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
+std::string quote(std::string_view s) {
+  return "'" + std::string(s) + "'";
+}
 
 bool all_digits(std::string_view s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
@@ -32,8 +34,8 @@ struct Ctx {
   std::string option;
 
   [[noreturn]] void bad(const std::string &msg) const {
-    fail(ErrorKind::kSettings, "property 'option' " + quote(option) + " for mode=" +
-                                   std::string(mode_name(mode)) + ": " + msg);
+    fail(ErrorKind::kSettings, "property 'option' " + quote(option) +
+                                   " for mode=" + std::string(mode_name(mode)) + ": " + msg);
   }
 };
 
@@ -102,8 +104,8 @@ std::vector<std::string> split_tokens(const Ctx &c, std::string_view s) {
 DimchgOptions parse_dimchg(const Ctx &c) {
   auto parts = split(c.option, ":", false);
   auto dim = [&](const std::string &p) -> uint32_t {
-    bool ok = (p.size() == 1 && all_digits(p)) || (p.size() == 2 && p[0] == '1' && p[1] <= '5' &&
-                                                   p[1] >= '0');
+    bool ok = (p.size() == 1 && all_digits(p)) ||
+              (p.size() == 2 && p[0] == '1' && p[1] <= '5' && p[1] >= '0');
     if (!ok) c.bad("bad dimension index " + quote(p) + " (expected FROM:TO with indices 0..15)");
     return static_cast<uint32_t>(std::stoul(p));
   };
@@ -136,7 +138,8 @@ ArithOptions parse_arithmetic(const Ctx &c) {
       a.per_channel = true;
       a.ch_dim = static_cast<uint32_t>(std::stoul(d));
     } else {
-      c.bad("bad " + quote(t) + " (expected per-channel:false or per-channel:true@DIM with DIM "
+      c.bad("bad " + quote(t) +
+            " (expected per-channel:false or per-channel:true@DIM with DIM "
             "0..15)");
     }
     ++idx;
@@ -145,7 +148,8 @@ ArithOptions parse_arithmetic(const Ctx &c) {
     const std::string &t = tokens[idx];
     std::string key = key_of(t);
     if (key == "typecast")
-      c.bad(quote(t) + " must be the first item (typecast:TYPE,...) so the output is allocated "
+      c.bad(quote(t) +
+            " must be the first item (typecast:TYPE,...) so the output is allocated "
             "once");
     if (key == "per-channel")
       c.bad(quote(t) + " must come before the operations (after an optional typecast:TYPE)");
@@ -169,8 +173,10 @@ ArithOptions parse_arithmetic(const Ctx &c) {
       body = t.substr(0, at);
     }
     auto parts = split(body, ":", false);
-    if (parts.size() < 2) c.bad("operation " + quote(t) + " has no value (expected " + key + ":NUMBER)");
-    for (std::size_t i = 1; i < parts.size(); ++i) op.values.push_back(parse_number(c, parts[i], t));
+    if (parts.size() < 2)
+      c.bad("operation " + quote(t) + " has no value (expected " + key + ":NUMBER)");
+    for (std::size_t i = 1; i < parts.size(); ++i)
+      op.values.push_back(parse_number(c, parts[i], t));
     if (op.channel >= 0 && !a.per_channel)
       c.bad(quote(t) + " names channel " + std::to_string(op.channel) +
             " but per-channel is not enabled (add per-channel:true@DIM first)");
@@ -239,8 +245,7 @@ ClampOptions parse_clamp(const Ctx &c) {
   ClampOptions o;
   o.min = parse_number(c, parts[0], c.option).f;
   o.max = parse_number(c, parts[1], c.option).f;
-  if (o.min > o.max)
-    c.bad("MIN " + quote(parts[0]) + " is larger than MAX " + quote(parts[1]));
+  if (o.min > o.max) c.bad("MIN " + quote(parts[0]) + " is larger than MAX " + quote(parts[1]));
   return o;
 }
 
@@ -262,7 +267,7 @@ PaddingOptions parse_padding(const Ctx &c) {
       p.nhwc = v == "nhwc";
       continue;
     }
-    static constexpr std::array<std::string_view, 6> kKeys = {"left", "right", "top",
+    static constexpr std::array<std::string_view, 6> kKeys = {"left",   "right", "top",
                                                               "bottom", "front", "back"};
     auto it = std::find(kKeys.begin(), kKeys.end(), key);
     if (it == kKeys.end()) c.bad("unknown padding side " + quote(kv[0]) + expect);
@@ -292,7 +297,7 @@ uint32_t dim_or_1(const TensorInfo &t, std::size_t i) {
 std::string_view mode_name(Mode m) {
   int i = static_cast<int>(m);
   return i >= 0 && i < static_cast<int>(kModeNames.size()) ? kModeNames[i]
-                                                            : std::string_view("unknown");
+                                                           : std::string_view("unknown");
 }
 
 std::string_view op_name(OpKind k) {
@@ -319,12 +324,13 @@ Options parse_options(Mode mode, const char *option) {
          "property 'mode' is not set (expected one of dimchg, typecast, arithmetic, transpose, "
          "stand, clamp, padding)");
   if (static_cast<int>(mode) < -1 || static_cast<int>(mode) > 6)
-    fail(ErrorKind::kSettings, "property 'mode' has the unknown value " +
-                                   std::to_string(static_cast<int>(mode)));
+    fail(ErrorKind::kSettings,
+         "property 'mode' has the unknown value " + std::to_string(static_cast<int>(mode)));
   if (!option || !*option)
-    fail(ErrorKind::kSettings, "property 'option' is not set; mode=" +
-                                   std::string(mode_name(mode)) + " needs one (see the element "
-                                   "documentation for its grammar)");
+    fail(ErrorKind::kSettings,
+         "property 'option' is not set; mode=" + std::string(mode_name(mode)) +
+             " needs one (see the element "
+             "documentation for its grammar)");
   o.option = option;
   Ctx c{mode, o.option};
   switch (mode) {
@@ -413,8 +419,9 @@ TensorInfo output_info(const Options &opts, const TensorInfo &in) {
         uint32_t channels = dim_or_1(in, a.ch_dim);
         for (const auto &op : a.ops) {
           if (op.channel >= 0 && static_cast<uint32_t>(op.channel) >= channels)
-            bad(quote(op.token) + " names channel " + std::to_string(op.channel) + " but dimension " +
-                std::to_string(a.ch_dim) + " has " + std::to_string(channels) + " channels");
+            bad(quote(op.token) + " names channel " + std::to_string(op.channel) +
+                " but dimension " + std::to_string(a.ch_dim) + " has " + std::to_string(channels) +
+                " channels");
           if (op.values.size() > 1 && op.values.size() != channels)
             bad(quote(op.token) + " has " + std::to_string(op.values.size()) +
                 " values but dimension " + std::to_string(a.ch_dim) + " has " +

@@ -116,6 +116,7 @@ TensorInfo input_info(const Options &opts, const TensorInfo &out);
 
 // Axis permutation of dimchg/transpose for a tensor of rank `rank` (>= the axes the option
 // names): output axis k takes input axis perm[k]. Returns the rank used.
-std::size_t permutation(const Options &opts, std::size_t rank, std::array<uint32_t, kRankLimit> &perm);
+std::size_t permutation(const Options &opts, std::size_t rank,
+                        std::array<uint32_t, kRankLimit> &perm);
 
 }  // namespace nns::transform

@@ -16,7 +16,8 @@ TensorInfo info(TensorType t, std::initializer_list<uint32_t> d) {
 void expect_bad(Mode mode, const char *option, std::initializer_list<const char *> fragments) {
   try {
     parse_options(mode, option);
-    ADD_FAILURE() << "no error for mode=" << mode_name(mode) << " option=" << (option ? option : "(null)");
+    ADD_FAILURE() << "no error for mode=" << mode_name(mode)
+                  << " option=" << (option ? option : "(null)");
   } catch (const Error &e) {
     EXPECT_EQ(e.kind(), ErrorKind::kSettings);
     for (const char *f : fragments)
@@ -52,9 +53,9 @@ TEST(TransformOptions, Dimchg) {
   EXPECT_TRUE(dims_equal(output_info(back, info(TensorType::kUInt8, {640, 480, 3, 1})).dims,
                          make_dims({3, 640, 480, 1})));
   // Missing dimensions count as 1.
-  EXPECT_TRUE(dims_equal(output_info(parse_options(Mode::kDimchg, "0:3"),
-                                     info(TensorType::kUInt8, {3, 4})).dims,
-                         make_dims({4, 1, 1, 3})));
+  EXPECT_TRUE(dims_equal(
+      output_info(parse_options(Mode::kDimchg, "0:3"), info(TensorType::kUInt8, {3, 4})).dims,
+      make_dims({4, 1, 1, 3})));
   EXPECT_TRUE(dims_equal(input_info(o, info(TensorType::kUInt8, {640, 480, 3, 1})).dims,
                          make_dims({3, 640, 480, 1})));
 }
@@ -88,10 +89,13 @@ TEST(TransformOptions, Arithmetic) {
   ASSERT_EQ(ints.ops.size(), 2u);
   EXPECT_FALSE(ints.ops[0].values[0].is_float);
   EXPECT_EQ(ints.ops[0].values[0].i, 25);
-  EXPECT_TRUE(parse_options(Mode::kArithmetic, "mul:1e2").get<ArithOptions>().ops[0].values[0].is_float);
-  EXPECT_TRUE(parse_options(Mode::kArithmetic, "mul:.5").get<ArithOptions>().ops[0].values[0].is_float);
+  EXPECT_TRUE(
+      parse_options(Mode::kArithmetic, "mul:1e2").get<ArithOptions>().ops[0].values[0].is_float);
+  EXPECT_TRUE(
+      parse_options(Mode::kArithmetic, "mul:.5").get<ArithOptions>().ops[0].values[0].is_float);
 
-  auto pc = parse_options(Mode::kArithmetic, "per-channel:true@0,add:255@1,mul:2").get<ArithOptions>();
+  auto pc =
+      parse_options(Mode::kArithmetic, "per-channel:true@0,add:255@1,mul:2").get<ArithOptions>();
   EXPECT_TRUE(pc.per_channel);
   EXPECT_EQ(pc.ch_dim, 0u);
   EXPECT_EQ(pc.ops[0].channel, 1);
@@ -99,9 +103,11 @@ TEST(TransformOptions, Arithmetic) {
   auto multi = parse_options(Mode::kArithmetic, "per-channel:true@2,add:1:2:3").get<ArithOptions>();
   EXPECT_EQ(multi.ch_dim, 2u);
   EXPECT_EQ(multi.ops[0].values.size(), 3u);
-  EXPECT_EQ(parse_options(Mode::kArithmetic, "per-channel:true@015,add:1").get<ArithOptions>().ch_dim,
-            15u);
-  EXPECT_FALSE(parse_options(Mode::kArithmetic, "per-channel:false,add:1").get<ArithOptions>().per_channel);
+  EXPECT_EQ(
+      parse_options(Mode::kArithmetic, "per-channel:true@015,add:1").get<ArithOptions>().ch_dim,
+      15u);
+  EXPECT_FALSE(
+      parse_options(Mode::kArithmetic, "per-channel:false,add:1").get<ArithOptions>().per_channel);
 
   expect_bad(Mode::kArithmetic, "sub:1", {"unknown operation 'sub'", "add, mul or div"});
   expect_bad(Mode::kArithmetic, "add:x", {"bad number 'x'", "'add:x'"});
@@ -176,17 +182,19 @@ TEST(TransformOptions, Clamp) {
 }
 
 TEST(TransformOptions, Padding) {
-  auto p = parse_options(Mode::kPadding, "left:1,right:2,top:3,bottom:4,front:5,back:6").get<PaddingOptions>();
+  auto p = parse_options(Mode::kPadding, "left:1,right:2,top:3,bottom:4,front:5,back:6")
+               .get<PaddingOptions>();
   EXPECT_EQ(p.pad, (std::array<uint32_t, 6>{1, 2, 3, 4, 5, 6}));
-  auto nhwc = parse_options(Mode::kPadding, "left:1,right:2,front:5,layout:NHWC").get<PaddingOptions>();
+  auto nhwc =
+      parse_options(Mode::kPadding, "left:1,right:2,front:5,layout:NHWC").get<PaddingOptions>();
   EXPECT_EQ(nhwc.pad, (std::array<uint32_t, 6>{5, 0, 0, 0, 1, 2}));
   auto o = parse_options(Mode::kPadding, "left:1,right:1,top:2");
   EXPECT_TRUE(dims_equal(output_info(o, info(TensorType::kUInt8, {4, 4, 3, 1})).dims,
                          make_dims({6, 6, 3, 1})));
   // A rank-1 tensor padded on dimension 2 grows the missing dimensions as 1s.
-  EXPECT_TRUE(dims_equal(output_info(parse_options(Mode::kPadding, "front:1"),
-                                     info(TensorType::kUInt8, {5})).dims,
-                         make_dims({5, 1, 2})));
+  EXPECT_TRUE(dims_equal(
+      output_info(parse_options(Mode::kPadding, "front:1"), info(TensorType::kUInt8, {5})).dims,
+      make_dims({5, 1, 2})));
   EXPECT_TRUE(dims_equal(input_info(o, info(TensorType::kUInt8, {6, 6, 3, 1})).dims,
                          make_dims({4, 4, 3, 1})));
   expect_bad(Mode::kPadding, "middle:1", {"unknown padding side 'middle'"});

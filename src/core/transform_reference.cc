@@ -11,7 +11,9 @@
 namespace nns::transform {
 namespace {
 
-uint32_t dim1(const TensorInfo &t, std::size_t i) { return i < t.rank() ? t.dims[i] : 1; }
+uint32_t dim1(const TensorInfo &t, std::size_t i) {
+  return i < t.rank() ? t.dims[i] : 1;
+}
 
 // One arithmetic step in type T, with C semantics: integers wrap, division truncates.
 template <typename T>
@@ -70,8 +72,8 @@ void ref_permute(const Options &opts, const TensorInfo &in, const TensorInfo &ou
   }
 }
 
-void ref_arith(const Options &opts, const TensorInfo &in, const TensorInfo &out,
-               const uint8_t *src, uint8_t *dst) {
+void ref_arith(const Options &opts, const TensorInfo &in, const TensorInfo &out, const uint8_t *src,
+               uint8_t *dst) {
   // typecast is arithmetic without operations.
   static const ArithOptions kNoOps;
   const ArithOptions &a = opts.mode == Mode::kArithmetic ? opts.get<ArithOptions>() : kNoOps;
@@ -90,8 +92,8 @@ void ref_arith(const Options &opts, const TensorInfo &in, const TensorInfo &out,
         int ch = a.per_channel ? static_cast<int>((i / ch_size) % channels) : -1;
         for (const auto &op : a.ops) {
           if (a.per_channel && op.channel >= 0 && op.channel != ch) continue;
-          const Number &num = op.values.size() > 1 ? op.values[static_cast<std::size_t>(ch)]
-                                                   : op.values[0];
+          const Number &num =
+              op.values.size() > 1 ? op.values[static_cast<std::size_t>(ch)] : op.values[0];
           v = ref_apply(op.kind, v, operand<T>(num));
         }
         std::memcpy(dst + i * sizeof(T), &v, sizeof(T));
@@ -101,8 +103,8 @@ void ref_arith(const Options &opts, const TensorInfo &in, const TensorInfo &out,
 }
 
 // Upstream's statistics: running mean, population standard deviation (1e-10 when it is 0).
-void ref_stand(const Options &opts, const TensorInfo &in, const TensorInfo &out,
-               const uint8_t *src, uint8_t *dst) {
+void ref_stand(const Options &opts, const TensorInfo &in, const TensorInfo &out, const uint8_t *src,
+               uint8_t *dst) {
   const auto &s = opts.get<StandOptions>();
   std::size_t n = in.element_count();
   std::size_t channels = s.per_channel ? dim1(in, 0) : 1;

@@ -19,7 +19,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 using DF = hn::ScalableTag<float>;
 using VF = hn::Vec<DF>;
 
-HWY_INLINE VF LoadF32(DF df, const float *p) { return hn::LoadU(df, p); }
+HWY_INLINE VF LoadF32(DF df, const float *p) {
+  return hn::LoadU(df, p);
+}
 HWY_INLINE VF LoadF32(DF df, const int32_t *p) {
   return hn::ConvertTo(df, hn::LoadU(hn::Rebind<int32_t, DF>(), p));
 }
@@ -72,8 +74,8 @@ HWY_INLINE float OpScalar(float v, float c) {
 // Uniform constants and at most two operations known at compile time: a straight-line loop,
 // unrolled by two vectors, with the constants broadcast once.
 template <typename In, int K0, int K1>
-HWY_NOINLINE void ArithUniform2(const In *HWY_RESTRICT in, float *HWY_RESTRICT out,
-                                std::size_t n, float c0, float c1) {
+HWY_NOINLINE void ArithUniform2(const In *HWY_RESTRICT in, float *HWY_RESTRICT out, std::size_t n,
+                                float c0, float c1) {
   const DF df;
   const std::size_t N = hn::Lanes(df);
   const VF v0 = hn::Set(df, c0), v1 = hn::Set(df, c1);
@@ -175,7 +177,121 @@ void ArithF32(int in_type, const void *in, float *out, std::size_t n, const Op *
   }
 }
 
-int64_t Target() { return HWY_TARGET; }
+// float32 -> int32 with x86 truncation semantics: NaN and out of range give INT32_MIN.
+HWY_INLINE hn::Vec<hn::Rebind<int32_t, DF>> TruncI32(DF df, VF x) {
+  const hn::Rebind<int32_t, DF> di;
+  const auto ok =
+      hn::And(hn::Ge(x, hn::Set(df, -2147483648.0f)), hn::Lt(x, hn::Set(df, 2147483648.0f)));
+  const auto safe = hn::IfThenElseZero(ok, x);  // keeps ConvertTo in range
+  return hn::IfThenElse(hn::RebindMask(di, ok), hn::ConvertTo(di, safe), hn::Set(di, INT32_MIN));
+}
+
+template <typename Out>
+HWY_NOINLINE void F32ToInt(const float *HWY_RESTRICT in, Out *HWY_RESTRICT out, std::size_t n) {
+  using U = hwy::MakeUnsigned<Out>;
+  const DF df;
+  const hn::Rebind<uint32_t, DF> du32;
+  const hn::Rebind<U, DF> dout;
+  const std::size_t N = hn::Lanes(df);
+  std::size_t i = 0;
+  for (; i + N <= n; i += N) {
+    const auto u = hn::BitCast(du32, TruncI32(df, hn::LoadU(df, in + i)));
+    if constexpr (sizeof(Out) == 4)
+      hn::StoreU(u, du32, reinterpret_cast<uint32_t *>(out + i));
+    else
+      hn::StoreU(hn::TruncateTo(dout, u), dout, reinterpret_cast<U *>(out + i));
+  }
+  for (; i < n; ++i) {
+    const float x = in[i];
+    const int32_t v =
+        (x >= -2147483648.0f && x < 2147483648.0f) ? static_cast<int32_t>(x) : INT32_MIN;
+    out[i] = static_cast<Out>(v);
+  }
+}
+
+bool F32ToIntAny(const float *in, int out_type, void *out, std::size_t n) {
+  switch (static_cast<TensorType>(out_type)) {
+    case TensorType::kInt8:
+      F32ToInt(in, static_cast<int8_t *>(out), n);
+      return true;
+    case TensorType::kUInt8:
+      F32ToInt(in, static_cast<uint8_t *>(out), n);
+      return true;
+    case TensorType::kInt16:
+      F32ToInt(in, static_cast<int16_t *>(out), n);
+      return true;
+    case TensorType::kUInt16:
+      F32ToInt(in, static_cast<uint16_t *>(out), n);
+      return true;
+    case TensorType::kInt32:
+      F32ToInt(in, static_cast<int32_t *>(out), n);
+      return true;
+    case TensorType::kUInt32:
+      F32ToInt(in, static_cast<uint32_t *>(out), n);
+      return true;
+    default:
+      return false;
+  }
+}
+
+template <typename T>
+HWY_NOINLINE void Deinterleave(std::size_t channels, const T *HWY_RESTRICT in, T *HWY_RESTRICT out,
+                               std::size_t n) {
+  const hn::ScalableTag<T> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t N = hn::Lanes(d);
+  T *p0 = out, *p1 = out + n, *p2 = out + 2 * n, *p3 = out + 3 * n;
+  std::size_t i = 0;
+  if (channels == 2) {
+    for (; i + N <= n; i += N) {
+      V a, b;
+      hn::LoadInterleaved2(d, in + 2 * i, a, b);
+      hn::StoreU(a, d, p0 + i);
+      hn::StoreU(b, d, p1 + i);
+    }
+  } else if (channels == 3) {
+    for (; i + N <= n; i += N) {
+      V a, b, c;
+      hn::LoadInterleaved3(d, in + 3 * i, a, b, c);
+      hn::StoreU(a, d, p0 + i);
+      hn::StoreU(b, d, p1 + i);
+      hn::StoreU(c, d, p2 + i);
+    }
+  } else {
+    for (; i + N <= n; i += N) {
+      V a, b, c, e;
+      hn::LoadInterleaved4(d, in + 4 * i, a, b, c, e);
+      hn::StoreU(a, d, p0 + i);
+      hn::StoreU(b, d, p1 + i);
+      hn::StoreU(c, d, p2 + i);
+      hn::StoreU(e, d, p3 + i);
+    }
+  }
+  for (; i < n; ++i)
+    for (std::size_t c = 0; c < channels; ++c) out[c * n + i] = in[i * channels + c];
+}
+
+void DeinterleaveAny(std::size_t esize, std::size_t channels, const void *in, void *out,
+                     std::size_t n) {
+  switch (esize) {
+    case 1:
+      return Deinterleave(channels, static_cast<const uint8_t *>(in), static_cast<uint8_t *>(out),
+                          n);
+    case 2:
+      return Deinterleave(channels, static_cast<const uint16_t *>(in), static_cast<uint16_t *>(out),
+                          n);
+    case 4:
+      return Deinterleave(channels, static_cast<const uint32_t *>(in), static_cast<uint32_t *>(out),
+                          n);
+    default:
+      return Deinterleave(channels, static_cast<const uint64_t *>(in), static_cast<uint64_t *>(out),
+                          n);
+  }
+}
+
+int64_t Target() {
+  return HWY_TARGET;
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace nns::transform::simd
@@ -186,6 +302,20 @@ namespace nns::transform::simd {
 
 HWY_EXPORT(ArithF32);
 HWY_EXPORT(Target);
+HWY_EXPORT(F32ToIntAny);
+HWY_EXPORT(DeinterleaveAny);
+
+bool f32_to_int(const float *in, TensorType out_type, void *out, std::size_t n) {
+  return HWY_DYNAMIC_DISPATCH(F32ToIntAny)(in, static_cast<int>(out_type), out, n);
+}
+
+bool deinterleave(std::size_t esize, std::size_t channels, const void *in, void *out,
+                  std::size_t n) {
+  if (channels < 2 || channels > 4 || (esize != 1 && esize != 2 && esize != 4 && esize != 8))
+    return false;
+  HWY_DYNAMIC_DISPATCH(DeinterleaveAny)(esize, channels, in, out, n);
+  return true;
+}
 
 bool supports_f32_input(TensorType t) {
   switch (t) {
@@ -206,12 +336,14 @@ void arith_f32(TensorType in_type, const void *in, float *out, std::size_t n, co
   HWY_DYNAMIC_DISPATCH(ArithF32)(static_cast<int>(in_type), in, out, n, ops, nops, period);
 }
 
-const char *target_name() { return hwy::TargetName(HWY_DYNAMIC_DISPATCH(Target)()); }
+const char *target_name() {
+  return hwy::TargetName(HWY_DYNAMIC_DISPATCH(Target)());
+}
 
 }  // namespace nns::transform::simd
 #endif  // HWY_ONCE
 
-#else  // !NNS_HAVE_HWY: plain loops (the build normally has libhwy-dev)
+#else   // !NNS_HAVE_HWY: plain loops (the build normally has libhwy-dev)
 namespace nns::transform::simd {
 namespace {
 template <typename In>
@@ -252,7 +384,16 @@ void arith_f32(TensorType t, const void *in, float *out, std::size_t n, const Op
   }
 }
 
-const char *target_name() { return "scalar (built without Highway)"; }
+bool f32_to_int(const float *, TensorType, void *, std::size_t) {
+  return false;
+}
+bool deinterleave(std::size_t, std::size_t, const void *, void *, std::size_t) {
+  return false;
+}
+
+const char *target_name() {
+  return "scalar (built without Highway)";
+}
 
 }  // namespace nns::transform::simd
 #endif  // NNS_HAVE_HWY

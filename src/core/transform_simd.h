@@ -24,6 +24,17 @@ bool supports_f32_input(TensorType t);
 void arith_f32(TensorType in_type, const void *in, float *out, std::size_t n, const Op *ops,
                std::size_t nops, std::size_t period);
 
+// out[i] = cast_value<Out>(in[i]) for float32 input and Out in int8, uint8, int16, uint16,
+// int32, uint32 (NNStreamer's C-cast semantics: 32-bit truncation, out of range -> INT32_MIN,
+// then the low bits). Returns false for other output types.
+bool f32_to_int(const float *in, TensorType out_type, void *out, std::size_t n);
+
+// Splits `n` interleaved groups of `channels` (2, 3 or 4) elements of `esize` bytes (1, 2, 4,
+// 8) into `channels` planes of n elements: out[c * n + i] = in[i * channels + c].
+// Returns false for unsupported channel counts / sizes.
+bool deinterleave(std::size_t esize, std::size_t channels, const void *in, void *out,
+                  std::size_t n);
+
 // Name of the SIMD target chosen at run time (e.g. "AVX3", "AVX2").
 const char *target_name();
 

@@ -62,7 +62,8 @@ struct Parsed {
   bool accelerate = true;
 
   bool applied(std::size_t i) const {
-    return apply.empty() || std::find(apply.begin(), apply.end(), static_cast<uint32_t>(i)) != apply.end();
+    return apply.empty() ||
+           std::find(apply.begin(), apply.end(), static_cast<uint32_t>(i)) != apply.end();
   }
 };
 
@@ -147,9 +148,11 @@ nns::MetaHeader header_for(const TensorInfo &t) {
 GstCaps *any_tensor_caps(const TensorsConfig &c, bool with_static, bool with_flexible) {
   GstCaps *caps = gst_caps_new_empty();
   if (with_static)
-    caps = gst_caps_merge(caps, nns::gst::caps_for_format(TensorFormat::kStatic, c.rate_n, c.rate_d));
+    caps =
+        gst_caps_merge(caps, nns::gst::caps_for_format(TensorFormat::kStatic, c.rate_n, c.rate_d));
   if (with_flexible)
-    caps = gst_caps_merge(caps, nns::gst::caps_for_format(TensorFormat::kFlexible, c.rate_n, c.rate_d));
+    caps = gst_caps_merge(caps,
+                          nns::gst::caps_for_format(TensorFormat::kFlexible, c.rate_n, c.rate_d));
   return caps;
 }
 
@@ -178,7 +181,8 @@ GstCaps *transform_structure(const Parsed *parsed, GstPadDirection direction,
   }
   GstCaps *out = nns::gst::caps_from_config(other, true);
   if (sink)  // a static input may also leave as flexible tensors
-    out = gst_caps_merge(out, nns::gst::caps_for_format(TensorFormat::kFlexible, cfg.rate_n, cfg.rate_d));
+    out = gst_caps_merge(
+        out, nns::gst::caps_for_format(TensorFormat::kFlexible, cfg.rate_n, cfg.rate_d));
   return out;
 }
 
@@ -339,10 +343,10 @@ static gboolean gst_tensor_transform_set_caps(GstBaseTransform *trans, GstCaps *
     const std::size_t n = st.in.info.size();
     for (uint32_t a : st.parsed.apply)
       if (a >= n)
-        throw Error(ErrorKind::kSettings,
-                    "property 'apply': tensor index " + std::to_string(a) +
-                        " is out of range, the stream has " + std::to_string(n) + " tensor(s) (" +
-                        st.in.info.to_string() + ")");
+        throw Error(ErrorKind::kSettings, "property 'apply': tensor index " + std::to_string(a) +
+                                              " is out of range, the stream has " +
+                                              std::to_string(n) + " tensor(s) (" +
+                                              st.in.info.to_string() + ")");
     TensorsConfig expected = st.in;
     st.plans.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -355,10 +359,10 @@ static gboolean gst_tensor_transform_set_caps(GstBaseTransform *trans, GstCaps *
       expected.info[i] = st.plans[i]->out;
     }
     if (!st.out_flexible && !st.out.info.same_as(expected.info))
-      throw Error(ErrorKind::kNegotiation,
-                  "output caps do not match " + how + " applied to the input " +
-                      st.in.info.to_string() + ": expected " + expected.info.to_string() +
-                      ", got " + st.out.info.to_string());
+      throw Error(ErrorKind::kNegotiation, "output caps do not match " + how +
+                                               " applied to the input " + st.in.info.to_string() +
+                                               ": expected " + expected.info.to_string() +
+                                               ", got " + st.out.info.to_string());
     st.out.info.tensors = expected.info.tensors;
     if (st.out_flexible) st.out.info.format = TensorFormat::kFlexible;
     GST_DEBUG_OBJECT(trans, "%s: %s -> %s", how.c_str(), st.in.info.to_string().c_str(),
@@ -381,9 +385,11 @@ static gboolean gst_tensor_transform_sink_event(GstBaseTransform *trans, GstEven
     caps.reset(gst_caps_ref(c));
     self->priv->caps_error_posted = false;
   }
-  gboolean ret = GST_BASE_TRANSFORM_CLASS(gst_tensor_transform_parent_class)->sink_event(trans, event);
+  gboolean ret =
+      GST_BASE_TRANSFORM_CLASS(gst_tensor_transform_parent_class)->sink_event(trans, event);
   if (!ret && caps && !self->priv->caps_error_posted) {
-    nns::gst::CapsPtr produced(gst_tensor_transform_transform_caps(trans, GST_PAD_SINK, caps.get(), nullptr));
+    nns::gst::CapsPtr produced(
+        gst_tensor_transform_transform_caps(trans, GST_PAD_SINK, caps.get(), nullptr));
     nns::gst::CapsPtr peer(gst_pad_peer_query_caps(GST_BASE_TRANSFORM_SRC_PAD(trans), nullptr));
     std::string how;
     try {
@@ -394,16 +400,15 @@ static gboolean gst_tensor_transform_sink_event(GstBaseTransform *trans, GstEven
     NNS_POST_ERROR(trans, ErrorKind::kNegotiation,
                    "cannot negotiate: " + how + " turns the input " +
                        nns::gst::caps_to_string(caps.get()) + " into " +
-                       nns::gst::caps_to_string(produced.get()) +
-                       ", but downstream accepts only " + nns::gst::caps_to_string(peer.get()));
+                       nns::gst::caps_to_string(produced.get()) + ", but downstream accepts only " +
+                       nns::gst::caps_to_string(peer.get()));
     self->priv->caps_error_posted = true;
   }
   return ret;
 }
 
-static gboolean gst_tensor_transform_transform_size(GstBaseTransform *, GstPadDirection,
-                                                    GstCaps *, gsize, GstCaps *,
-                                                    gsize *othersize) {
+static gboolean gst_tensor_transform_transform_size(GstBaseTransform *, GstPadDirection, GstCaps *,
+                                                    gsize, GstCaps *, gsize *othersize) {
   *othersize = 0;  // memories are appended per tensor in transform()
   return TRUE;
 }
@@ -412,10 +417,10 @@ static GstFlowReturn gst_tensor_transform_prepare_output_buffer(GstBaseTransform
                                                                 GstBuffer *inbuf,
                                                                 GstBuffer **outbuf) {
   *outbuf = gst_buffer_new();
-  gst_buffer_copy_into(*outbuf, inbuf,
-                       static_cast<GstBufferCopyFlags>(GST_BUFFER_COPY_FLAGS |
-                                                       GST_BUFFER_COPY_TIMESTAMPS),
-                       0, static_cast<gsize>(-1));
+  gst_buffer_copy_into(
+      *outbuf, inbuf,
+      static_cast<GstBufferCopyFlags>(GST_BUFFER_COPY_FLAGS | GST_BUFFER_COPY_TIMESTAMPS), 0,
+      static_cast<gsize>(-1));
   return GST_FLOW_OK;
 }
 
@@ -447,7 +452,8 @@ static void transform_static(State &st, GstBuffer *inbuf, GstBuffer *outbuf) {
     if (size != in.byte_size())
       throw Error(ErrorKind::kStream, "tensor " + std::to_string(i) + ": the buffer has " +
                                           std::to_string(size) + " bytes, the caps say " +
-                                          std::to_string(in.byte_size()) + " (" + in.to_string() + ")");
+                                          std::to_string(in.byte_size()) + " (" + in.to_string() +
+                                          ")");
     const auto &plan = st.plans[i];
     GstMemory *out;
     if (!plan || plan->identity) {  // unchanged bytes: share the memory
@@ -455,7 +461,9 @@ static void transform_static(State &st, GstBuffer *inbuf, GstBuffer *outbuf) {
                             : mem.release();
     } else {
       nns::gst::MemoryMap map(mem.get(), GST_MAP_READ);
-      if (!map.ok()) throw Error(ErrorKind::kStream, "tensor " + std::to_string(i) + ": cannot map the input memory");
+      if (!map.ok())
+        throw Error(ErrorKind::kStream,
+                    "tensor " + std::to_string(i) + ": cannot map the input memory");
       out = run_plan(*plan, map.data(), st.out_flexible);
     }
     nns::gst::buffer_append_tensor(outbuf, out, st.out.info[i]);
@@ -483,21 +491,26 @@ static void transform_flexible(State &st, GstBuffer *inbuf, GstBuffer *outbuf) {
       continue;
     }
     nns::gst::MemoryMap map(mem.get(), GST_MAP_READ);
-    if (!map.ok()) throw Error(ErrorKind::kStream, "tensor " + std::to_string(i) + ": cannot map the input memory");
+    if (!map.ok())
+      throw Error(ErrorKind::kStream,
+                  "tensor " + std::to_string(i) + ": cannot map the input memory");
     nns::MetaHeader h;
     try {
       h = nns::parse_meta_header(map.data(), map.size());
       if (h.format == TensorFormat::kSparse)
-        throw Error(ErrorKind::kStream, "is sparse; tensor_transform handles static and flexible "
-                                        "tensors only (decode it with tensor_sparse_dec first)");
+        throw Error(ErrorKind::kStream,
+                    "is sparse; tensor_transform handles static and flexible "
+                    "tensors only (decode it with tensor_sparse_dec first)");
       TensorInfo in = h.info();
       if (map.size() - nns::kMetaHeaderSize < in.byte_size())
-        throw Error(ErrorKind::kStream, "the memory has " + std::to_string(map.size() - nns::kMetaHeaderSize) +
-                                            " payload bytes, its header says " +
-                                            std::to_string(in.byte_size()) + " (" + in.to_string() + ")");
+        throw Error(ErrorKind::kStream,
+                    "the memory has " + std::to_string(map.size() - nns::kMetaHeaderSize) +
+                        " payload bytes, its header says " + std::to_string(in.byte_size()) + " (" +
+                        in.to_string() + ")");
       auto &plan = st.plans[i];
       if (!plan || !plan->in.same_as(in) || plan->in.type != in.type)
-        plan = tr::make_plan(st.parsed.opts, in, st.parsed.accelerate);  // only when the header changes
+        plan = tr::make_plan(st.parsed.opts, in,
+                             st.parsed.accelerate);  // only when the header changes
     } catch (const Error &e) {
       fail_tensor(i, e);
     }
