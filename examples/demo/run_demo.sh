@@ -54,6 +54,11 @@ image=$(cd "$(dirname "$image")" && pwd)/$(basename "$image")
 . "$BUILD_DIR/env.sh"
 # A registry cache of this build tree's own, so other checkouts' plugins never mix in.
 export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+# A sanitizer build's plugin cannot be loaded by the (uninstrumented) gst-plugin-scanner helper:
+# scan in this process instead, which is instrumented.
+if grep -q '^NNS_SANITIZE:BOOL=ON' "$BUILD_DIR/CMakeCache.txt" 2>/dev/null; then
+  export GST_REGISTRY_FORK=no
+fi
 out_dir=$BUILD_DIR/demo
 mkdir -p "$out_dir"
 out=$out_dir/$(basename "${image%.*}").rgb224.f32
