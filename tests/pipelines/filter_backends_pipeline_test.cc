@@ -100,12 +100,13 @@ TEST_F(FilterPipeline, MobilenetOnnxruntimeOrange) {
   std::string filter =
       " ! tensor_filter framework=onnxruntime model=" + model + " custom=NumThreads:1";
   if (have_element("tensor_transform")) {
-    auto got = run_to_file("filesrc location=" + sh +
-                           "/data/orange.raw ! application/octet-stream ! tensor_converter "
-                           "input-dim=3:224:224:1 input-type=uint8 ! tensor_transform "
-                           "mode=transpose option=1:2:0:3 ! tensor_transform mode=arithmetic "
-                           "option=typecast:float32,div:127.5,add:-1" +
-                           filter);
+    auto got = run_to_file(
+        "filesrc location=" + sh +
+        "/data/orange.raw blocksize=150528 ! application/octet-stream ! tensor_converter "
+        "input-dim=3:224:224:1 input-type=uint8 ! tensor_transform "
+        "mode=transpose option=1:2:0:3 ! tensor_transform mode=arithmetic "
+        "option=typecast:float32,div:127.5,add:-1" +
+        filter);
     ASSERT_EQ(got.size(), 4000u);
     EXPECT_EQ(argmax_f32(got), 951u);
   }
@@ -171,20 +172,20 @@ TEST_F(FilterPipeline, BackendErrorsReachTheBus) {
     std::string filter;
     std::vector<std::string> expect;
   } cases[] = {
-      {"tensor_filter framework=onnxruntime model=" + m->file("onnx"),
+      {"tensor_filter name=tf framework=onnxruntime model=" + m->file("onnx"),
        {"free dimensions", "'a'", "input="}},
-      {"tensor_filter framework=onnxruntime model=" + a->file("onnx") + " custom=Threads:2",
+      {"tensor_filter name=tf framework=onnxruntime model=" + a->file("onnx") + " custom=Threads:2",
        {"unknown custom option key 'Threads'", "NumThreads"}},
-      {"tensor_filter framework=onnxruntime model=" + dir_ + "/none.onnx", {"not found"}},
-      {"tensor_filter framework=onnxruntime model=" + a->file("onnx") +
+      {"tensor_filter name=tf framework=onnxruntime model=" + dir_ + "/none.onnx", {"none.onnx"}},
+      {"tensor_filter name=tf framework=onnxruntime model=" + a->file("onnx") +
            " input=4:3:1,4:3:1 inputtype=uint8,float32",
-       {"uint8", "float32"}},
+       {"input= tensor 0 is uint8 4:3:1 but model input 'a' is float32 4:3:1"}},
   };
   for (const auto &c : cases) {
     SCOPED_TRACE(c.filter);
     RunResult r = run_pipeline(src + c.filter + " ! fakesink", 30);
     EXPECT_TRUE(r.error) << "expected a bus error";
-    EXPECT_NE(r.error_text.find("tensor_filter"), std::string::npos) << r.error_text;
+    EXPECT_EQ(r.error_text.rfind("tf:", 0), 0u) << r.error_text;
     for (const auto &e : c.expect)
       EXPECT_NE(r.error_text.find(e), std::string::npos) << r.error_text;
   }
@@ -194,10 +195,11 @@ TEST_F(FilterPipeline, BackendErrorsReachTheBus) {
   RunResult r = run_pipeline("filesrc location=" + g +
                                  " blocksize=24 ! application/octet-stream ! tensor_converter "
                                  "input-dim=4:3:1,4:3:1 input-type=uint8,uint8 ! tensor_filter "
-                                 "framework=onnxruntime model=" +
+                                 "name=tf framework=onnxruntime model=" +
                                  a->file("onnx") + " ! fakesink",
                              30);
   EXPECT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("uint8"), std::string::npos) << r.error_text;
   EXPECT_NE(r.error_text.find("float32"), std::string::npos) << r.error_text;
 }
 

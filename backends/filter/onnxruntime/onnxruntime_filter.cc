@@ -198,7 +198,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
       if (d.type != m.in[i].desc.type)
         throw FilterError(err_prefix(path_) + ": input " + std::to_string(i) + " ('" +
                               m.in[i].name + "') is " + desc_string(d) + " but the model wants " +
-                              desc_string(m.in[i].desc),
+                              desc_string(m.in[i].desc, false),
                           -EINVAL);
       Port p = m.in[i];
       p.shape = shape;
@@ -271,7 +271,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
   void check_size(const char *what, uint32_t i, const Port &p, std::size_t got) const {
     if (got != p.bytes)
       throw FilterError(err_prefix(path_) + ": " + what + " " + std::to_string(i) + " ('" + p.name +
-                            "', " + desc_string(p.desc) + ") is " + std::to_string(got) +
+                            "', " + desc_string(p.desc, false) + ") is " + std::to_string(got) +
                             " bytes, expected " + std::to_string(p.bytes),
                         -EINVAL);
   }
@@ -450,7 +450,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
       if (d.type != p.desc.type && d.type < _NNS_END)
         throw FilterError(err_prefix(path_) + ": " + source + " tensor " + std::to_string(i) +
                               " is " + desc_string(d) + " but model input '" + p.name + "' is " +
-                              desc_string(p.desc),
+                              desc_string(p.desc, false),
                           -EINVAL);
       if (desc_rank(d)) {
         p.shape = shape_of_checked(d, p, source);
@@ -480,7 +480,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
       if (type_bad || dims_bad)
         throw FilterError(err_prefix(path_) + ": output= tensor " + std::to_string(i) + " is " +
                               desc_string(d) + " but model output '" + p.name + "' is " +
-                              desc_string(p.desc),
+                              desc_string(p.desc, false),
                           -EINVAL);
     }
   }
