@@ -87,6 +87,24 @@ TEST_F(FilterPipeline, GeneratedModelsMatchReference) {
   }
 }
 
+// A model with a free batch axis runs when input= gives the sizes.
+TEST_F(FilterPipeline, FreeDimensionFromInputProperty) {
+  need_backend("onnxruntime");
+  auto m = load_ref("add_mul_dynamic");
+  ASSERT_TRUE(m);
+  std::vector<uint8_t> in = m->inputs[0].bytes;
+  in.insert(in.end(), m->inputs[1].bytes.begin(), m->inputs[1].bytes.end());
+  std::string f = write("dyn.in", in.data(), in.size());
+  auto got = run_to_file("filesrc location=" + f +
+                         " blocksize=96 ! application/octet-stream ! tensor_converter "
+                         "input-dim=4:3:1,4:3:1 input-type=float32,float32 ! tensor_filter "
+                         "framework=onnxruntime model=" +
+                         m->file("onnx") + " input=4:3:1,4:3:1 inputtype=float32,float32");
+  ASSERT_EQ(got.size(), 96u);
+  EXPECT_EQ(compare(m->outputs[0], got.data(), 48, 1e-6, 0), "");
+  EXPECT_EQ(compare(m->outputs[1], got.data() + 48, 48, 1e-6, 0), "");
+}
+
 std::size_t argmax_f32(const std::vector<uint8_t> &bytes) {
   const auto *f = reinterpret_cast<const float *>(bytes.data());
   std::size_t n = bytes.size() / 4;
