@@ -105,6 +105,43 @@ TEST_F(FilterPipeline, FreeDimensionFromInputProperty) {
   EXPECT_EQ(compare(m->outputs[1], got.data() + 48, 48, 1e-6, 0), "");
 }
 
+// No copy between the GstBuffer and ONNX Runtime: the pointer ORT got for the input is the
+// appsrc buffer's own memory (and onnxruntime_test checks ORT writes the outputs in place).
+TEST_F(FilterPipeline, OnnxruntimeGetsTheBuffersMemory) {
+  need_backend("onnxruntime");
+  auto m = load_ref("uint8_scale");
+  ASSERT_TRUE(m);
+  std::vector<uint8_t> data = m->inputs[0].bytes;
+  std::string out = dir_ + "/zc.out";
+  std::string desc =
+      "appsrc name=src caps=other/tensors,format=static,num_tensors=1,"
+      "dimensions=3:8:8:1,types=uint8,framerate=0/1 ! tensor_filter "
+      "framework=onnxruntime model=" +
+      m->file("onnx") + " ! filesink location=" + out;
+  GError *e = nullptr;
+  GstElement *p = gst_parse_launch(desc.c_str(), &e);
+  ASSERT_TRUE(p) << (e ? e->message : "");
+  GstElement *src = gst_bin_get_by_name(GST_BIN(p), "src");
+  GstBuffer *buf = gst_buffer_new_wrapped_full(GST_MEMORY_FLAG_READONLY, data.data(), data.size(),
+                                               0, data.size(), nullptr, nullptr);
+  GstFlowReturn ret;
+  g_signal_emit_by_name(src, "push-buffer", buf, &ret);
+  gst_buffer_unref(buf);
+  g_signal_emit_by_name(src, "end-of-stream", &ret);
+  RunResult r = run_pipeline(p, 30);
+  gst_object_unref(src);
+  gst_object_unref(p);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  void *h = dlopen(backend_path("onnxruntime").c_str(), RTLD_NOW | RTLD_NOLOAD);
+  ASSERT_NE(h, nullptr) << "tensor_filter did not load " << backend_path("onnxruntime");
+  auto last = reinterpret_cast<const void *(*)()>(dlsym(h, "nns_filter_onnxruntime_last_input"));
+  ASSERT_NE(last, nullptr);
+  EXPECT_EQ(last(), static_cast<const void *>(data.data()));
+  dlclose(h);
+  auto got = read_file(out);
+  EXPECT_EQ(compare(m->outputs[0], got.data(), got.size(), m->abs_tol, m->rel_tol), "");
+}
+
 std::size_t argmax_f32(const std::vector<uint8_t> &bytes) {
   const auto *f = reinterpret_cast<const float *>(bytes.data());
   std::size_t n = bytes.size() / 4;

@@ -126,6 +126,10 @@ struct Model {
   bool resolved = false;  // every shape is known
 };
 
+// Data pointer of the first input of the latest invoke in this process (a test hook proving the
+// pipeline hands the GstBuffer's memory through unchanged).
+std::atomic<const void *> g_last_input{nullptr};
+
 std::string err_prefix(const std::string &model) {
   return std::string(kName) + ": " + model;
 }
@@ -180,6 +184,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
                                               m.out[i].shape.size(), m.out[i].ort_type));
     }
     run(m, ins.data(), outs.data());
+    g_last_input.store(num_in ? in[0].data : nullptr, std::memory_order_relaxed);
     for (uint32_t i = 0; i < num_out; ++i) {
       const void *got = outs[i].GetTensorRawData();
       if (got != out[i].data && out[i].size) {  // ORT replaced our buffer: copy and count it
@@ -551,4 +556,10 @@ extern "C" __attribute__((visibility("default"))) uint64_t nns_filter_onnxruntim
     void *priv) {
   auto *f = dynamic_cast<nns::OnnxRuntimeFilter *>(static_cast<nns::FilterBackend *>(priv));
   return f ? f->copied_bytes() : 0;
+}
+
+// The input pointer the latest invoke gave ONNX Runtime (test hook, see above).
+extern "C" __attribute__((visibility("default"))) const void *nns_filter_onnxruntime_last_input(
+    void) {
+  return nns::g_last_input.load();
 }
