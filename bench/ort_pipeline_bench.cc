@@ -8,7 +8,8 @@
 //  3. parallel: appsrc ! tee ! 2 x (queue ! tensor_filter custom=NumThreads:1 ! fakesink):
 //     combined inferences/s over one single-threaded filter (target >= 1.7 on 2 cores), with the
 //     same for two direct loops in two threads as the machine's own ceiling.
-// Each configuration runs --runs times, interleaved, and the median is reported.
+// --runs short rounds run every configuration in turn; ratios are taken within a round and the
+// median over rounds is reported (the 2-core machine is shared).
 //
 // usage: ort_pipeline_bench [--frames N] [--runs R] [--threads T] [--model PATH]
 #include <dlfcn.h>
@@ -32,8 +33,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct Opts {
-  int frames = 150;
-  int runs = 3;
+  int frames = 60;
+  int runs = 5;
   int threads = 1;  // NumThreads of the single-filter comparison
   std::string model;
   std::string input;
@@ -110,8 +111,17 @@ const char *kCaps =
     "other/tensors,format=static,num_tensors=1,dimensions=224:224:3:1,types=float32,"
     "framerate=0/1";
 
-// Runs `desc` (with an appsrc named src) pushing the same buffer `frames` times; returns the
-// number of frames per second from the first push to EOS.
+void push(GstElement *src, GstBuffer *input, int k) {
+  GstBuffer *b = gst_buffer_copy(input);  // shares the memory: no data copy
+  GST_BUFFER_PTS(b) = k * GST_MSECOND;
+  GstFlowReturn ret;
+  g_signal_emit_by_name(src, "push-buffer", b, &ret);  // appsrc action signal (takes a ref)
+  gst_buffer_unref(b);
+}
+
+// Runs `desc` (with an appsrc named src): one warm-up buffer and preroll (model opened, first
+// inference done), then the same buffer `frames` times; returns frames per second from the
+// first timed push to EOS.
 double pipeline_fps(const std::string &desc, GstBuffer *input, int frames) {
   GError *e = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &e);
@@ -125,14 +135,10 @@ double pipeline_fps(const std::string &desc, GstBuffer *input, int frames) {
                TRUE, nullptr);
   gst_caps_unref(caps);
   gst_element_set_state(p, GST_STATE_PLAYING);
+  push(src, input, 0);
+  gst_element_get_state(p, nullptr, nullptr, 60 * GST_SECOND);  // preroll done
   auto t0 = Clock::now();
-  for (int k = 0; k < frames; ++k) {
-    GstBuffer *b = gst_buffer_copy(input);  // shares the memory: no data copy
-    GST_BUFFER_PTS(b) = k * GST_MSECOND;
-    GstFlowReturn ret;
-    g_signal_emit_by_name(src, "push-buffer", b, &ret);  // appsrc action signal (takes a ref)
-    gst_buffer_unref(b);
-  }
+  for (int k = 1; k <= frames; ++k) push(src, input, k);
   GstFlowReturn ret;
   g_signal_emit_by_name(src, "end-of-stream", &ret);
   GstBus *bus = gst_element_get_bus(p);
@@ -205,12 +211,25 @@ int main(int argc, char **argv) {
   std::string one = "appsrc name=src ! " + branch;
   std::string two = "appsrc name=src ! tee name=t t. ! " + branch + " t. ! " + branch;
 
+  std::string load;
+  if (std::FILE *f = std::fopen("/proc/loadavg", "r")) {
+    char b[64] = {0};
+    if (std::fgets(b, sizeof(b), f)) load.assign(b, std::strcspn(b, "\n"));
+    std::fclose(f);
+  }
   direct_fps(d1, in, 10);  // warm-up
   direct_fps(d2, in, 10);
   direct_fps(d3, in, 10);
+  // Short interleaved rounds: the machine is shared, so each ratio compares runs made seconds
+  // apart, and the median over rounds is reported.
   std::vector<double> direct, direct1, direct2, pipe, one_fps, two_fps;
+  std::vector<double> r_pipe, r_direct2, r_two;
   for (int r = 0; r < o.runs; ++r) {
     direct.push_back(direct_fps(d1, in, o.frames));
+    if (have_filter) {
+      pipe.push_back(pipeline_fps(single, buf, o.frames));
+      r_pipe.push_back(pipe.back() / direct.back());
+    }
     direct1.push_back(direct_fps(d2, in, o.frames));
     // Two direct loops in two threads, one instance each: the machine's own ceiling.
     double a = 0, b = 0;
@@ -219,30 +238,32 @@ int main(int argc, char **argv) {
     b = direct_fps(d2, in, o.frames);
     th.join();
     direct2.push_back(a + b);
+    r_direct2.push_back(direct2.back() / direct1.back());
     if (have_filter) {
-      pipe.push_back(pipeline_fps(single, buf, o.frames));
       one_fps.push_back(pipeline_fps(one, buf, o.frames));
       two_fps.push_back(2 * pipeline_fps(two, buf, o.frames));
+      r_two.push_back(two_fps.back() / one_fps.back());
     }
   }
-  std::printf("model %s, %d frames x %d runs, median\n", o.model.c_str(), o.frames, o.runs);
+  std::printf("model %s, %d frames x %d rounds, medians (load before: %s)\n", o.model.c_str(),
+              o.frames, o.runs, load.c_str());
   std::printf("direct loop (NumThreads:%d):          %7.1f inferences/s (%.2f ms)\n", o.threads,
               median(direct), 1000 / median(direct));
   std::printf("direct, 1 thread x NumThreads:1:      %7.1f inferences/s\n", median(direct1));
   std::printf("direct, 2 threads x NumThreads:1:     %7.1f inferences/s combined, %.2fx\n",
-              median(direct2), median(direct2) / median(direct1));
+              median(direct2), median(r_direct2));
   if (!have_filter) {
     std::printf("pipeline: skipped (tensor_filter is not built yet)\n");
   } else {
     std::printf(
         "pipeline appsrc ! tensor_filter:      %7.1f inferences/s, ratio %.3f "
         "(target >= 0.97)\n",
-        median(pipe), median(pipe) / median(direct));
+        median(pipe), median(r_pipe));
     std::printf("pipeline, one queue branch:           %7.1f inferences/s\n", median(one_fps));
     std::printf(
         "pipeline, tee ! 2 queue branches:     %7.1f inferences/s combined, %.2fx one "
         "branch (target >= 1.7)\n",
-        median(two_fps), median(two_fps) / median(one_fps));
+        median(two_fps), median(r_two));
   }
   gst_buffer_unref(buf);
   for (Direct *d : {&d1, &d2, &d3}) d->api->close(d->priv);

@@ -56,12 +56,12 @@ bool desc_dims_equal(const nns_tensor_desc &a, const nns_tensor_desc &b) {
   return dims_equal(x, y);
 }
 
-std::string desc_string(const nns_tensor_desc &d) {
+std::string desc_string(const nns_tensor_desc &d, bool with_name) {
   Dims dims{};
   std::memcpy(dims.data(), d.dims, sizeof(d.dims));
   std::string s = std::string(type_name(desc_type(d))) + " " + dims_to_string(dims);
   std::size_t n = strnlen(d.name, NNS_TENSOR_NAME_MAX);
-  return n ? "'" + std::string(d.name, n) + "' " + s : s;
+  return n && with_name ? "'" + std::string(d.name, n) + "' " + s : s;
 }
 
 std::string desc_dims_string(const nns_tensor_desc &d) {

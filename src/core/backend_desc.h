@@ -24,8 +24,8 @@ std::size_t desc_bytes(const nns_tensor_desc &d);
 std::size_t desc_rank(const nns_tensor_desc &d);
 // Whether the dims equal with trailing 1s ignored.
 bool desc_dims_equal(const nns_tensor_desc &a, const nns_tensor_desc &b);
-// "float32 4:3:1" / "'name' float32 4:3:1" when named.
-std::string desc_string(const nns_tensor_desc &d);
+// "float32 4:3:1" / "'name' float32 4:3:1" when named and with_name.
+std::string desc_string(const nns_tensor_desc &d, bool with_name = true);
 // Dims alone: "4:3:1".
 std::string desc_dims_string(const nns_tensor_desc &d);
 // "[1,224,224,3]" with free dims printed as '?'.

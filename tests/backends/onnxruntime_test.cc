@@ -314,7 +314,7 @@ TEST_F(OnnxRuntime, InputPropertyMustMatchModel) {
   p.input.tensors[1] = make_desc("", _NNS_FLOAT32, "4:3:1");
   std::string err = open_error(p);
   EXPECT_NE(err.find("uint8 4:3:1"), std::string::npos) << err;
-  EXPECT_NE(err.find("'a' float32 4:3:1"), std::string::npos) << err;
+  EXPECT_NE(err.find("model input 'a' is float32 4:3:1"), std::string::npos) << err;
 
   p.input.tensors[0] = make_desc("", _NNS_FLOAT32, "3:4:1");
   err = open_error(p);

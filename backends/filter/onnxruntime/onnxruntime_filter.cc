@@ -119,11 +119,16 @@ struct Port {
 
 // Everything built from the model file; replaced as a whole by reload().
 struct Model {
+  std::string path;                       // the model file, for messages
   mutable Ort::Session session{nullptr};  // Run() is thread-safe but not const
   std::vector<Port> in, out;
   std::vector<const char *> in_names, out_names;
   bool resolved = false;  // every shape is known
 };
+
+// Data pointer of the first input of the latest invoke in this process (a test hook proving the
+// pipeline hands the GstBuffer's memory through unchanged).
+std::atomic<const void *> g_last_input{nullptr};
 
 std::string err_prefix(const std::string &model) {
   return std::string(kName) + ": " + model;
@@ -155,26 +160,31 @@ class OnnxRuntimeFilter final : public FilterBackend {
     const Model &m = *model_;
     if (!m.resolved)
       throw FilterError(
-          err_prefix(path_) + ": the model has free dimensions; give input= or use invoke-dynamic",
+          err_prefix(m.path) + ": the model has free dimensions; give input= or use invoke-dynamic",
           -EINVAL);
-    check_count("input", num_in, m.in.size());
-    check_count("output", num_out, m.out.size());
+    check_count(m, "input", num_in, m.in.size());
+    check_count(m, "output", num_out, m.out.size());
     // Reused per thread: no allocation per call once warm (ORT still allocates its OrtValue
     // wrappers, a few small objects).
     thread_local std::vector<Ort::Value> ins, outs;
-    ins.clear();
-    outs.clear();
+    struct Clear {  // drop the wrappers on every exit, error paths included
+      ~Clear() {
+        ins.clear();
+        outs.clear();
+      }
+    } clear;
     for (uint32_t i = 0; i < num_in; ++i) {
-      check_size("input", i, m.in[i], in[i].size);
+      check_size(m, "input", i, m.in[i], in[i].size);
       ins.push_back(Ort::Value::CreateTensor(mem_, in[i].data, in[i].size, m.in[i].shape.data(),
                                              m.in[i].shape.size(), m.in[i].ort_type));
     }
     for (uint32_t i = 0; i < num_out; ++i) {
-      check_size("output", i, m.out[i], out[i].size);
+      check_size(m, "output", i, m.out[i], out[i].size);
       outs.push_back(Ort::Value::CreateTensor(mem_, out[i].data, out[i].size, m.out[i].shape.data(),
                                               m.out[i].shape.size(), m.out[i].ort_type));
     }
     run(m, ins.data(), outs.data());
+    g_last_input.store(num_in ? in[0].data : nullptr, std::memory_order_relaxed);
     for (uint32_t i = 0; i < num_out; ++i) {
       const void *got = outs[i].GetTensorRawData();
       if (got != out[i].data && out[i].size) {  // ORT replaced our buffer: copy and count it
@@ -182,28 +192,26 @@ class OnnxRuntimeFilter final : public FilterBackend {
         copied_.fetch_add(out[i].size, std::memory_order_relaxed);
       }
     }
-    ins.clear();
-    outs.clear();
   }
 
   void invoke_dynamic(const nns_tensors_desc &in_info, const GstTensorMemory *in,
                       nns_tensors_desc &out_info, GstTensorMemory *out) override {
     std::shared_lock lock(mutex_);
     const Model &m = *model_;
-    check_count("input", in_info.num_tensors, m.in.size());
+    check_count(m, "input", in_info.num_tensors, m.in.size());
     std::vector<Ort::Value> ins;
     for (std::size_t i = 0; i < m.in.size(); ++i) {
       const nns_tensor_desc &d = in_info.tensors[i];
-      std::vector<int64_t> shape = shape_of_checked(d, m.in[i], "input");
+      std::vector<int64_t> shape = shape_of_checked(m, d, m.in[i], "input");
       if (d.type != m.in[i].desc.type)
-        throw FilterError(err_prefix(path_) + ": input " + std::to_string(i) + " ('" +
+        throw FilterError(err_prefix(m.path) + ": input " + std::to_string(i) + " ('" +
                               m.in[i].name + "') is " + desc_string(d) + " but the model wants " +
-                              desc_string(m.in[i].desc),
+                              desc_string(m.in[i].desc, false),
                           -EINVAL);
       Port p = m.in[i];
       p.shape = shape;
       p.bytes = desc_bytes(d);
-      check_size("input", static_cast<uint32_t>(i), p, in[i].size);
+      check_size(m, "input", static_cast<uint32_t>(i), p, in[i].size);
       ins.push_back(Ort::Value::CreateTensor(mem_, in[i].data, in[i].size, shape.data(),
                                              shape.size(), m.in[i].ort_type));
     }
@@ -261,33 +269,34 @@ class OnnxRuntimeFilter final : public FilterBackend {
     return true;
   }
 
-  void check_count(const char *what, std::size_t got, std::size_t want) const {
+  void check_count(const Model &m, const char *what, std::size_t got, std::size_t want) const {
     if (got != want)
-      throw FilterError(err_prefix(path_) + ": got " + std::to_string(got) + " " + what +
+      throw FilterError(err_prefix(m.path) + ": got " + std::to_string(got) + " " + what +
                             " tensors, the model has " + std::to_string(want),
                         -EINVAL);
   }
 
-  void check_size(const char *what, uint32_t i, const Port &p, std::size_t got) const {
+  void check_size(const Model &m, const char *what, uint32_t i, const Port &p,
+                  std::size_t got) const {
     if (got != p.bytes)
-      throw FilterError(err_prefix(path_) + ": " + what + " " + std::to_string(i) + " ('" + p.name +
-                            "', " + desc_string(p.desc) + ") is " + std::to_string(got) +
-                            " bytes, expected " + std::to_string(p.bytes),
+      throw FilterError(err_prefix(m.path) + ": " + what + " " + std::to_string(i) + " ('" +
+                            p.name + "', " + desc_string(p.desc, false) + ") is " +
+                            std::to_string(got) + " bytes, expected " + std::to_string(p.bytes),
                         -EINVAL);
   }
 
-  std::vector<int64_t> shape_of_checked(const nns_tensor_desc &d, const Port &p,
+  std::vector<int64_t> shape_of_checked(const Model &m, const nns_tensor_desc &d, const Port &p,
                                         const char *what) const {
     std::vector<int64_t> shape;
     try {
       shape = shape_of(d, p.model_shape.size());
     } catch (const Error &e) {
-      throw FilterError(err_prefix(path_) + ": " + what + " '" + p.name + "': " + e.what(),
+      throw FilterError(err_prefix(m.path) + ": " + what + " '" + p.name + "': " + e.what(),
                         -EINVAL);
     }
     for (std::size_t k = 0; k < shape.size(); ++k)
       if (p.model_shape[k] >= 0 && p.model_shape[k] != shape[k])
-        throw FilterError(err_prefix(path_) + ": " + what + " '" + p.name + "' is " +
+        throw FilterError(err_prefix(m.path) + ": " + what + " '" + p.name + "' is " +
                               desc_string(d) + " (shape " + shape_string(shape) +
                               ") but the model's shape is " + shape_string(p.model_shape),
                           -EINVAL);
@@ -299,7 +308,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
       m.session.Run(run_options_, m.in_names.data(), ins, m.in.size(), m.out_names.data(), outs,
                     m.out.size());
     } catch (const Ort::Exception &e) {
-      throw FilterError(err_prefix(path_) + ": inference failed: " + e.what(), -EIO);
+      throw FilterError(err_prefix(m.path) + ": inference failed: " + e.what(), -EIO);
     }
   }
 
@@ -309,10 +318,12 @@ class OnnxRuntimeFilter final : public FilterBackend {
       throw FilterError(std::string(kName) + ": model= must name exactly one .onnx file (got " +
                             std::to_string(p.num_models) + ")",
                         -EINVAL);
-    path_ = p.model_files[0];
+    auto model = std::make_shared<Model>();
+    Model &m = *model;
+    m.path = p.model_files[0];
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path_, ec))
-      throw FilterError(err_prefix(path_) + ": model file not found", -ENOENT);
+    if (!std::filesystem::is_regular_file(m.path, ec))
+      throw FilterError(err_prefix(m.path) + ": model file not found", -ENOENT);
 
     Ort::SessionOptions so;
     try {
@@ -340,31 +351,30 @@ class OnnxRuntimeFilter final : public FilterBackend {
       throw FilterError(e.what(), -EINVAL);
     }
 
-    auto m = std::make_shared<Model>();
     try {
-      m->session = Ort::Session(ort_env(), path_.c_str(), so);
+      m.session = Ort::Session(ort_env(), m.path.c_str(), so);
     } catch (const Ort::Exception &e) {
-      throw FilterError(err_prefix(path_) + ": cannot load the model: " + e.what(), -EINVAL);
+      throw FilterError(err_prefix(m.path) + ": cannot load the model: " + e.what(), -EINVAL);
     }
-    read_ports(*m, true);
-    read_ports(*m, false);
-    select_outputs(*m, p.output);
-    if (p.input && p.input->num_tensors) resolve_inputs(*m, *p.input, "input=");
-    check_outputs(*m, p.output);
+    read_ports(m, true);
+    read_ports(m, false);
+    select_outputs(m, p.output);
+    if (p.input && p.input->num_tensors) resolve_inputs(m, *p.input, "input=");
+    check_outputs(m, p.output);
     bool free_in = false;
-    for (const auto &port : m->in) free_in = free_in || port.has_free_dim();
+    for (const auto &port : m.in) free_in = free_in || port.has_free_dim();
     if (free_in && !p.invoke_dynamic) {
-      for (const auto &port : m->in)
+      for (const auto &port : m.in)
         if (port.has_free_dim())
-          throw FilterError(err_prefix(path_) + ": model input '" + port.name +
+          throw FilterError(err_prefix(m.path) + ": model input '" + port.name +
                                 "' has free dimensions (shape " + shape_string(port.shape) +
                                 "); give the sizes with input= (and inputtype=) or set "
                                 "invoke-dynamic=true",
                             -EINVAL);
     }
-    set_names(*m);
-    if (!free_in) finish(*m);
-    return m;
+    set_names(m);
+    if (!free_in) finish(m);
+    return model;
   }
 
   void read_ports(Model &m, bool inputs) {
@@ -372,7 +382,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
     std::size_t n = inputs ? m.session.GetInputCount() : m.session.GetOutputCount();
     const char *what = inputs ? "input" : "output";
     if (n == 0 || n > NNS_TENSOR_SIZE_LIMIT)
-      throw FilterError(err_prefix(path_) + ": the model has " + std::to_string(n) + " " + what +
+      throw FilterError(err_prefix(m.path) + ": the model has " + std::to_string(n) + " " + what +
                             " tensors; 1.." + std::to_string(NNS_TENSOR_SIZE_LIMIT) +
                             " are supported",
                         -EINVAL);
@@ -384,18 +394,18 @@ class OnnxRuntimeFilter final : public FilterBackend {
                    .get();
       Ort::TypeInfo ti = inputs ? m.session.GetInputTypeInfo(i) : m.session.GetOutputTypeInfo(i);
       if (ti.GetONNXType() != ONNX_TYPE_TENSOR)
-        throw FilterError(err_prefix(path_) + ": " + what + " '" + p.name +
+        throw FilterError(err_prefix(m.path) + ": " + what + " '" + p.name +
                               "' is not a tensor (sequences and maps are not supported)",
                           -ENOTSUP);
       auto tsi = ti.GetTensorTypeAndShapeInfo();
       p.ort_type = tsi.GetElementType();
       if (!to_nns_type(p.ort_type, p.desc.type))
-        throw FilterError(err_prefix(path_) + ": " + what + " '" + p.name + "' has type " +
+        throw FilterError(err_prefix(m.path) + ": " + what + " '" + p.name + "' has type " +
                               ort_type_name(p.ort_type) + ", which NNStreamer tensors cannot carry",
                           -ENOTSUP);
       p.model_shape = tsi.GetShape();
       if (p.model_shape.size() > NNS_TENSOR_RANK_LIMIT)
-        throw FilterError(err_prefix(path_) + ": " + what + " '" + p.name + "' has rank " +
+        throw FilterError(err_prefix(m.path) + ": " + what + " '" + p.name + "' has rank " +
                               std::to_string(p.model_shape.size()) + ", the limit is " +
                               std::to_string(NNS_TENSOR_RANK_LIMIT),
                           -ENOTSUP);
@@ -421,7 +431,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
       if (!found) {
         std::string names;
         for (const auto &p : m.out) names += (names.empty() ? "'" : ", '") + p.name + "'";
-        throw FilterError(err_prefix(path_) + ": outputname '" + name +
+        throw FilterError(err_prefix(m.path) + ": outputname '" + name +
                               "' is not an output of the model (outputs: " + names + ")",
                           -EINVAL);
       }
@@ -431,7 +441,7 @@ class OnnxRuntimeFilter final : public FilterBackend {
 
   // Applies a caller's input description (input=/inputtype=/inputname= or negotiated caps).
   void resolve_inputs(Model &m, const nns_tensors_desc &given, const char *source) {
-    check_count(source, given.num_tensors, m.in.size());
+    check_count(m, source, given.num_tensors, m.in.size());
     std::vector<Port> ordered(m.in.size());
     for (uint32_t i = 0; i < given.num_tensors; ++i) {
       const nns_tensor_desc &d = given.tensors[i];
@@ -442,18 +452,18 @@ class OnnxRuntimeFilter final : public FilterBackend {
         for (std::size_t j = 0; j < m.in.size(); ++j)
           if (m.in[j].name == name) k = j;
         if (k == m.in.size())
-          throw FilterError(err_prefix(path_) + ": " + source + " names tensor '" + name +
+          throw FilterError(err_prefix(m.path) + ": " + source + " names tensor '" + name +
                                 "', which is not an input of the model",
                             -EINVAL);
       }
       Port p = m.in[k];
       if (d.type != p.desc.type && d.type < _NNS_END)
-        throw FilterError(err_prefix(path_) + ": " + source + " tensor " + std::to_string(i) +
+        throw FilterError(err_prefix(m.path) + ": " + source + " tensor " + std::to_string(i) +
                               " is " + desc_string(d) + " but model input '" + p.name + "' is " +
-                              desc_string(p.desc),
+                              desc_string(p.desc, false),
                           -EINVAL);
       if (desc_rank(d)) {
-        p.shape = shape_of_checked(d, p, source);
+        p.shape = shape_of_checked(m, d, p, source);
         set_dims(p.desc, p.shape);
       }
       ordered[i] = std::move(p);
@@ -471,16 +481,16 @@ class OnnxRuntimeFilter final : public FilterBackend {
 
   void check_outputs(const Model &m, const nns_tensors_desc *want) const {
     if (!want || !want->num_tensors) return;
-    check_count("output=", want->num_tensors, m.out.size());
+    check_count(m, "output=", want->num_tensors, m.out.size());
     for (uint32_t i = 0; i < want->num_tensors; ++i) {
       const nns_tensor_desc &d = want->tensors[i];
       const Port &p = m.out[i];
       bool type_bad = d.type < _NNS_END && d.type != p.desc.type;
       bool dims_bad = desc_rank(d) && !p.has_free_dim() && !desc_dims_equal(d, p.desc);
       if (type_bad || dims_bad)
-        throw FilterError(err_prefix(path_) + ": output= tensor " + std::to_string(i) + " is " +
+        throw FilterError(err_prefix(m.path) + ": output= tensor " + std::to_string(i) + " is " +
                               desc_string(d) + " but model output '" + p.name + "' is " +
-                              desc_string(p.desc),
+                              desc_string(p.desc, false),
                           -EINVAL);
     }
   }
@@ -523,7 +533,6 @@ class OnnxRuntimeFilter final : public FilterBackend {
     in.format = out.format = free_dims ? _NNS_TENSOR_FORMAT_FLEXIBLE : _NNS_TENSOR_FORMAT_STATIC;
   }
 
-  std::string path_;
   Ort::MemoryInfo mem_;
   Ort::RunOptions run_options_;
   mutable std::shared_mutex mutex_;  // invoke: shared; reload/set_input_info: exclusive
@@ -547,4 +556,10 @@ extern "C" __attribute__((visibility("default"))) uint64_t nns_filter_onnxruntim
     void *priv) {
   auto *f = dynamic_cast<nns::OnnxRuntimeFilter *>(static_cast<nns::FilterBackend *>(priv));
   return f ? f->copied_bytes() : 0;
+}
+
+// The input pointer the latest invoke gave ONNX Runtime (test hook, see above).
+extern "C" __attribute__((visibility("default"))) const void *nns_filter_onnxruntime_last_input(
+    void) {
+  return nns::g_last_input.load();
 }

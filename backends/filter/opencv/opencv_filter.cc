@@ -175,8 +175,9 @@ class OpenCvFilter final : public FilterBackend {
 
   [[noreturn]] void fail_size(const char *what, uint32_t i, const std::string &name,
                               const nns_tensor_desc &d, std::size_t got, std::size_t want) const {
-    fail(std::string(what) + " " + std::to_string(i) + " ('" + name + "', " + desc_string(d) +
-         ") is " + std::to_string(got) + " bytes, expected " + std::to_string(want));
+    fail(std::string(what) + " " + std::to_string(i) + " ('" + name + "', " +
+         desc_string(d, false) + ") is " + std::to_string(got) + " bytes, expected " +
+         std::to_string(want));
   }
 
   void forward(const GstTensorMemory *in) {
