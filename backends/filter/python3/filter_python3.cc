@@ -15,6 +15,8 @@
 // only. Outputs (NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE): a returned array is lent to the host as is,
 // holding a reference until free_output; it is copied first when it is not C-contiguous, overlaps
 // an input, or overlaps an array still lent (the same array returned twice or kept by the script).
+// invoke-dynamic: inputs are shaped (numpy order) and the returned arrays' shapes and dtypes
+// describe each frame's output.
 #include <cstring>
 #include <memory>
 #include <string>
