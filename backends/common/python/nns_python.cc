@@ -115,8 +115,8 @@ bool runtime_alive() noexcept {
 void ensure_runtime() {
   // A Python host of another version provides its own libpython's symbols, which our calls then
   // reach: refuse instead of running with a mismatched ABI.
-  const std::string built = std::to_string(PY_MAJOR_VERSION) + "." +
-                            std::to_string(PY_MINOR_VERSION) + ".";
+  const std::string built =
+      std::to_string(PY_MAJOR_VERSION) + "." + std::to_string(PY_MINOR_VERSION) + ".";
   const char *running = Py_GetVersion();
   if (!running || std::strncmp(running, built.c_str(), built.size()) != 0) {
     std::string r = running ? running : "?";
