@@ -9,6 +9,7 @@
 //
 // usage: filter_overhead_bench [--buffers N] [--runs R]
 #include <gst/gst.h>
+#include <time.h>
 
 #include <algorithm>
 #include <atomic>
@@ -44,7 +45,15 @@ int record_ptr(void *, const GstTensorFilterProperties *, const GstTensorMemory 
   return 0;
 }
 
-double time_pipeline(const std::string &desc) {
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+// Wall seconds from PLAYING to EOS (negative on error); *cpu receives the process CPU seconds
+// spent meanwhile (robust when other processes compete for the cores).
+double time_pipeline(const std::string &desc, double *cpu) {
   GError *err = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &err);
   if (!p || err) {
@@ -55,10 +64,12 @@ double time_pipeline(const std::string &desc) {
   }
   GstBus *bus = gst_element_get_bus(p);
   auto t0 = Clock::now();
+  double c0 = cpu_seconds();
   gst_element_set_state(p, GST_STATE_PLAYING);
   GstMessage *m = gst_bus_timed_pop_filtered(
       bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
   double s = std::chrono::duration<double>(Clock::now() - t0).count();
+  *cpu = cpu_seconds() - c0;
   if (!m || GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
     if (m) {
       GError *e = nullptr;
@@ -170,21 +181,26 @@ int main(int argc, char **argv) {
           "tensor_filter framework=custom-easy model=bench_pass latency=1 throughput=1 ! "
           "fakesink sync=false",
   };
-  std::vector<std::vector<double>> t(d.size());
+  std::vector<std::vector<double>> t(d.size()), c(d.size());
   for (int r = 0; r < runs; ++r)
     for (std::size_t i = 0; i < d.size(); ++i) {
-      double s = time_pipeline(d[i]);
+      double cpu = 0;
+      double s = time_pipeline(d[i], &cpu);
       if (s < 0) return 1;
       t[i].push_back(s);
+      c[i].push_back(cpu);
     }
-  double base = median(t[0]), plain = median(t[1]), prof = median(t[2]);
+  const char *names[] = {"fakesrc ! capsfilter ! fakesink         ",
+                         "+ tensor_filter custom-easy pass-through",
+                         "+ same with latency=1 throughput=1      "};
   std::printf("filter overhead, %d buffers of uint8 4:1:1:1, median of %d runs\n", n, runs);
-  std::printf("  fakesrc ! capsfilter ! fakesink          : %.3f us/buffer\n", base * 1e6 / n);
-  std::printf(
-      "  + tensor_filter custom-easy pass-through : %.3f us/buffer (+%.3f us; target <= 2)\n",
-      plain * 1e6 / n, (plain - base) * 1e6 / n);
-  std::printf("  + same with latency=1 throughput=1       : %.3f us/buffer (+%.3f us)\n",
-              prof * 1e6 / n, (prof - base) * 1e6 / n);
+  std::printf("  %s    wall us/buf (added)    cpu us/buf (added; target <= 2)\n",
+              "                                        ");
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    double w = median(t[i]) * 1e6 / n, cu = median(c[i]) * 1e6 / n;
+    double w0 = median(t[0]) * 1e6 / n, c0 = median(c[0]) * 1e6 / n;
+    std::printf("  %s :  %7.3f (%+.3f)       %7.3f (%+.3f)\n", names[i], w, w - w0, cu, cu - c0);
+  }
 
   zero_copy_check(200);
   std::printf(

@@ -22,6 +22,14 @@ foreach(n testecho badversion)
   target_link_libraries(nns_test_backend_${n} PRIVATE nns_warnings)
   list(APPEND _targets nns_test_backend_${n})
 endforeach()
+# A C++ filter library for framework=cpp model=<name>,<lib>; its symbols come from the test
+# executable (ENABLE_EXPORTS below), as they come from libnnstreamer.so in a real pipeline.
+add_library(nns_test_cpp_filter_lib MODULE ${_d}/cpp_filter_lib.cc)
+set_target_properties(nns_test_cpp_filter_lib PROPERTIES PREFIX "lib" OUTPUT_NAME "cpp_filter_lib"
+                      LIBRARY_OUTPUT_DIRECTORY ${NNS_TEST_FILTER_DIR})
+target_include_directories(nns_test_cpp_filter_lib PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+target_link_libraries(nns_test_cpp_filter_lib PRIVATE nns_warnings)
+list(APPEND _targets nns_test_cpp_filter_lib)
 # A file with the right name but no entry point.
 add_library(nns_test_backend_noentry MODULE ${_d}/custom_nosym.c)
 set_target_properties(nns_test_backend_noentry PROPERTIES PREFIX "lib"
@@ -36,5 +44,6 @@ foreach(t ${_filter_tests})
   if(TARGET ${name})
     add_dependencies(${name} ${_targets})
     target_compile_definitions(${name} PRIVATE NNS_TEST_FILTER_DIR="${NNS_TEST_FILTER_DIR}")
+    set_target_properties(${name} PROPERTIES ENABLE_EXPORTS ON)
   endif()
 endforeach()

@@ -33,6 +33,8 @@ int custom_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
     return set_err(err, len, "framework=custom needs model=<path of the custom filter .so>");
   auto c = std::make_unique<CustomSo>();
   c->path = p->model_files[0];
+  // dlopen() searches the library path for names without '/'; model= means a file here.
+  if (c->path.find('/') == std::string::npos) c->path = "./" + c->path;
   dlerror();
   c->dl = dlopen(c->path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!c->dl) {

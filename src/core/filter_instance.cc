@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -17,6 +18,12 @@ namespace nns {
 namespace {
 
 constexpr std::size_t kErrLen = 1024;
+
+int64_t now_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
 
 std::string join_models(const std::vector<std::string> &m) {
   std::string s;
@@ -247,8 +254,21 @@ int FilterInstance::invoke(const GstTensorMemory *in, uint32_t num_in, GstTensor
     rc = be_->invoke(session_->priv(), in, num_in, out, num_out, err, sizeof err);
     if (used) *used = session_;
   }
+  if (track_use_.load(std::memory_order_relaxed))
+    last_use_us_.store(now_us(), std::memory_order_relaxed);
   if (rc < 0) raise("invoke failed", rc, err);
   return rc;
+}
+
+void FilterInstance::track_use() {
+  int64_t zero = 0;
+  last_use_us_.compare_exchange_strong(zero, now_us());
+  track_use_.store(true, std::memory_order_relaxed);
+}
+
+int64_t FilterInstance::idle_us() const {
+  int64_t last = last_use_us_.load(std::memory_order_relaxed);
+  return last == 0 ? 0 : now_us() - last;
 }
 
 void FilterInstance::invoke_dynamic(const nns_tensors_desc &in_info, const GstTensorMemory *in,
@@ -262,6 +282,8 @@ void FilterInstance::invoke_dynamic(const nns_tensors_desc &in_info, const GstTe
   std::unique_lock lk(mu_);
   resume_locked();
   int rc = be_->invoke_dynamic(session_->priv(), &in_info, in, &out_info, out, err, sizeof err);
+  if (track_use_.load(std::memory_order_relaxed))
+    last_use_us_.store(now_us(), std::memory_order_relaxed);
   if (used) *used = session_;
   if (rc < 0) raise("invoke (dynamic) failed", rc, err);
 }

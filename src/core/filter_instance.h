@@ -96,6 +96,10 @@ class FilterInstance {
   void reload(const std::vector<std::string> &models);
   // Idle: let the back end free its resources; the next call resumes transparently.
   void suspend();
+  // Makes invoke() record the time of each call (for suspend=; one clock read per invoke).
+  void track_use();
+  // Microseconds since the last invoke (or since open/track_use() when none yet).
+  int64_t idle_us() const;
   bool suspended() const { return suspended_.load(std::memory_order_relaxed); }
   // Number of open() calls made so far (1 + reopens after suspend or reload).
   unsigned open_count() const { return open_count_; }
@@ -116,6 +120,8 @@ class FilterInstance {
   std::shared_mutex mu_;  // invoke: shared (thread-safe back ends) or exclusive
   std::shared_ptr<FilterSession> session_;
   std::atomic<bool> suspended_{false};
+  std::atomic<bool> track_use_{false};
+  std::atomic<int64_t> last_use_us_{0};
   bool suspended_by_event_ = false;
   unsigned open_count_ = 0;
 };

@@ -8,7 +8,9 @@
 namespace nns {
 namespace {
 
-uint32_t dim_at(const Dims &d, std::size_t i) { return d[i] == 0 ? 1 : d[i]; }
+uint32_t dim_at(const Dims &d, std::size_t i) {
+  return d[i] == 0 ? 1 : d[i];
+}
 
 // Dims with every entry up to `upto` made explicit (0 -> 1), so the rank covers `upto`.
 Dims extend(const Dims &d, std::size_t upto) {
@@ -33,10 +35,9 @@ TensorInfo concat_info(const std::vector<TensorInfo> &in, std::size_t dim,
   out.dims = extend(in[0].dims, dim);
   for (std::size_t k = 1; k < in.size(); ++k) {
     if (in[k].type != out.type)
-      fail(ErrorKind::kNegotiation, name(k) + " has type " + std::string(type_name(in[k].type)) +
-                                        " but " + name(0) + " has " +
-                                        std::string(type_name(out.type)) +
-                                        ": merged tensors need one type");
+      fail(ErrorKind::kNegotiation,
+           name(k) + " has type " + std::string(type_name(in[k].type)) + " but " + name(0) +
+               " has " + std::string(type_name(out.type)) + ": merged tensors need one type");
     for (std::size_t j = 0; j < kRankLimit; ++j) {
       if (j == dim) continue;
       if (dim_at(in[k].dims, j) != dim_at(in[0].dims, j))
@@ -85,8 +86,8 @@ void run_concat(const ConcatPlan &plan, const uint8_t *const *src, uint8_t *dst)
 AggregatorPlan plan_aggregator(const TensorInfo &in, const AggregatorConfig &cfg) {
   const std::size_t fd = cfg.frames_dim;
   if (fd >= kRankLimit)
-    fail(ErrorKind::kSettings, "frames-dim=" + std::to_string(fd) + " is outside 0.." +
-                                   std::to_string(kRankLimit - 1));
+    fail(ErrorKind::kSettings,
+         "frames-dim=" + std::to_string(fd) + " is outside 0.." + std::to_string(kRankLimit - 1));
   if (cfg.frames_in == 0 || cfg.frames_out == 0)
     fail(ErrorKind::kSettings, "frames-in and frames-out must be at least 1");
   const uint32_t count = (cfg.frames_out + cfg.frames_in - 1) / cfg.frames_in;

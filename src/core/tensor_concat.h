@@ -39,14 +39,14 @@ struct AggregatorConfig {
   bool concat = true;
 };
 struct AggregatorPlan {
-  TensorInfo out;               // output tensor (frames_out frames)
-  TensorInfo frame;             // one frame
-  std::size_t in_size = 0;      // bytes per input buffer
-  std::size_t frame_size = 0;   // bytes per frame
-  std::size_t out_size = 0;     // bytes per output buffer
-  std::size_t flush_size = 0;   // bytes dropped after each output
-  bool reorder = false;         // frames must be interleaved along frames_dim
-  ConcatPlan concat;            // used when reorder
+  TensorInfo out;              // output tensor (frames_out frames)
+  TensorInfo frame;            // one frame
+  std::size_t in_size = 0;     // bytes per input buffer
+  std::size_t frame_size = 0;  // bytes per frame
+  std::size_t out_size = 0;    // bytes per output buffer
+  std::size_t flush_size = 0;  // bytes dropped after each output
+  bool reorder = false;        // frames must be interleaved along frames_dim
+  ConcatPlan concat;           // used when reorder
 };
 // Throws nns::Error(kNegotiation) naming the property and the values that disagree.
 AggregatorPlan plan_aggregator(const TensorInfo &in, const AggregatorConfig &cfg);

@@ -37,16 +37,14 @@ TEST(TensorConcat, InfoAlongEachDim) {
   std::vector<std::string> names{"sink_0", "sink_1"};
   EXPECT_EQ(concat_info({u16({3, 640, 480}), u16({3, 640, 480})}, 1, names).to_string(),
             "uint16 3:1280:480");
-  EXPECT_EQ(concat_info({u16({1, 4, 4}), u16({2, 4, 4})}, 0, names).to_string(),
-            "uint16 3:4:4");
+  EXPECT_EQ(concat_info({u16({1, 4, 4}), u16({2, 4, 4})}, 0, names).to_string(), "uint16 3:4:4");
   EXPECT_EQ(concat_info({u16({3, 4}), u16({3, 4})}, 3, names).to_string(), "uint16 3:4:1:2");
 }
 
 TEST(TensorConcat, InfoErrorsNameBothValues) {
   std::vector<std::string> names{"sink_0", "sink_1"};
   try {
-    concat_info({u16({3, 4}), TensorInfo{"", TensorType::kFloat32, make_dims({3, 4})}}, 0,
-                names);
+    concat_info({u16({3, 4}), TensorInfo{"", TensorType::kFloat32, make_dims({3, 4})}}, 0, names);
     FAIL();
   } catch (const Error &e) {
     std::string m = e.what();
@@ -57,8 +55,7 @@ TEST(TensorConcat, InfoErrorsNameBothValues) {
     FAIL();
   } catch (const Error &e) {
     std::string m = e.what();
-    EXPECT_NE(m.find("sink_1 has dimensions 3:5:4 but sink_0 has 3:4:4"), std::string::npos)
-        << m;
+    EXPECT_NE(m.find("sink_1 has dimensions 3:5:4 but sink_0 has 3:4:4"), std::string::npos) << m;
     EXPECT_NE(m.find("(5 vs 4)"), std::string::npos) << m;
   }
 }

@@ -15,8 +15,8 @@ uint32_t parse_index(const std::string &tok, std::string_view prop, std::string_
   uint64_t v = 0;
   auto [p, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
   if (tok.empty() || ec != std::errc() || p != tok.data() + tok.size() || v > UINT32_MAX)
-    fail(ErrorKind::kSettings, std::string(prop) + "='" + std::string(whole) + "': '" + tok +
-                                   "' is not a tensor index");
+    fail(ErrorKind::kSettings,
+         std::string(prop) + "='" + std::string(whole) + "': '" + tok + "' is not a tensor index");
   return static_cast<uint32_t>(v);
 }
 

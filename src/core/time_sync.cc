@@ -11,18 +11,19 @@
 namespace nns {
 namespace {
 
-constexpr std::array<std::string_view, 4> kModeNames = {"nosync", "slowest", "basepad",
-                                                         "refresh"};
+constexpr std::array<std::string_view, 4> kModeNames = {"nosync", "slowest", "basepad", "refresh"};
 
-uint64_t absdiff(uint64_t a, uint64_t b) { return a > b ? a - b : b - a; }
+uint64_t absdiff(uint64_t a, uint64_t b) {
+  return a > b ? a - b : b - a;
+}
 
 uint64_t parse_u64(std::string_view tok, std::string_view what) {
   std::string t = trim(tok);
   uint64_t v = 0;
   auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
   if (t.empty() || ec != std::errc() || p != t.data() + t.size())
-    fail(ErrorKind::kSettings, "sync-option: " + std::string(what) + " '" + t +
-                                   "' is not a non-negative integer");
+    fail(ErrorKind::kSettings,
+         "sync-option: " + std::string(what) + " '" + t + "' is not a non-negative integer");
   return v;
 }
 
@@ -35,7 +36,9 @@ std::optional<SyncMode> sync_mode_from_name(std::string_view s) {
   return std::nullopt;
 }
 
-std::string_view sync_mode_name(SyncMode m) { return kModeNames[static_cast<std::size_t>(m)]; }
+std::string_view sync_mode_name(SyncMode m) {
+  return kModeNames[static_cast<std::size_t>(m)];
+}
 
 SyncOption parse_sync_option(SyncMode mode, std::string_view s) {
   SyncOption o;

@@ -112,7 +112,6 @@ void FilterEngine::open(const FilterSettings &s) {
   reported_ns_ = 0;
   prev_ts_ = GST_CLOCK_TIME_NONE;
   throttling_accum_ = 0;
-  last_activity_us_ = g_get_monotonic_time();
 }
 
 void FilterEngine::check_model_shapes() {
@@ -345,9 +344,11 @@ bool FilterEngine::throttled(GstBuffer *inbuf) {
     double rate = GST_BUFFER_DURATION_IS_VALID(inbuf)
                       ? static_cast<double>(GST_BUFFER_DURATION(inbuf)) / static_cast<double>(delay)
                       : 1.0;
-    gst_pad_push_event(
-        GST_BASE_TRANSFORM_SINK_PAD(element_),
-        gst_event_new_qos(GST_QOS_TYPE_OVERFLOW, rate, throttling_accum_ - delay, cur));
+    // A QoS event's negative jitter may not reach before time 0.
+    GstClockTimeDiff jitter =
+        std::max<GstClockTimeDiff>(throttling_accum_ - delay, -static_cast<GstClockTimeDiff>(cur));
+    gst_pad_push_event(GST_BASE_TRANSFORM_SINK_PAD(element_),
+                       gst_event_new_qos(GST_QOS_TYPE_OVERFLOW, rate, jitter, cur));
     return true;
   }
   throttling_accum_ = 0;
@@ -405,8 +406,6 @@ void FilterEngine::track_latency() {
 GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
   if (!configured_ || !inst_)
     fail(ErrorKind::kNegotiation, where() + ": a buffer arrived before the caps were set");
-  if (track_activity_) last_activity_us_.store(g_get_monotonic_time(), std::memory_order_relaxed);
-  if (throttled(inbuf)) return GST_BASE_TRANSFORM_FLOW_DROPPED;
 
   // 1. Map the input tensors; their pointers go to the back end unchanged.
   guint nmem = gst_buffer_n_memory(inbuf);

@@ -81,8 +81,9 @@ class FilterEngine {
   }
   // QoS throttling (tensor_rate throttle=true): the smallest delay asked for.
   void set_throttling_delay(GstClockTimeDiff diff);
-  int64_t last_activity_us() const { return last_activity_us_.load(std::memory_order_relaxed); }
-  void set_track_activity(bool on) { track_activity_ = on; }
+  // True when `inbuf` comes too soon after the last processed frame; sends QoS OVERFLOW
+  // upstream. Streaming thread, without the engine lock (it pushes an event upstream).
+  bool throttled(GstBuffer *inbuf);
 
  private:
   struct OutTensor {
@@ -103,7 +104,6 @@ class FilterEngine {
   void release_inputs(std::size_t n);
   void release_outputs(bool free_mems);
   GstMemory *pass_input(std::size_t i);
-  bool throttled(GstBuffer *inbuf);
   void track_latency();
 
   GstBaseTransform *element_;
@@ -144,9 +144,6 @@ class FilterEngine {
   std::atomic<GstClockTimeDiff> throttling_delay_{0};
   GstClockTime prev_ts_ = GST_CLOCK_TIME_NONE;
   GstClockTimeDiff throttling_accum_ = 0;
-
-  std::atomic<int64_t> last_activity_us_{0};
-  bool track_activity_ = false;
 
  public:
   // latency-report: the latency added to LATENCY query answers (ns).

@@ -28,7 +28,9 @@ void SrcPads::remove_all() {
   pads_.clear();
 }
 
-void SrcPads::reset_flow() { gst_flow_combiner_reset(combiner_); }
+void SrcPads::reset_flow() {
+  gst_flow_combiner_reset(combiner_);
+}
 
 void SrcPads::configure(GstPad *sinkpad, const std::vector<TensorsConfig> &configs) {
   if (configs.size() == pads_.size()) {

@@ -45,7 +45,16 @@ struct SyncPriv {
   nns::TensorsConfig out_config;
   GstBuffer *time_src = nullptr;  // the buffer whose metadata goes on the output
   bool segment_sent = false;
+  bool queue_checked = false;  // deeper input queues considered (see deepen_queues)
+  bool queue_auto = false;     // we set GstAggregator:latency ourselves
 };
+
+// GstAggregator lets each sink pad queue as much as its `latency` (time) allows; with the
+// default 0 every pad holds one buffer, so each input buffer costs a thread hand-off both
+// ways (measured ~10 us per buffer). When nothing upstream is live and the buffers carry
+// timestamps (the queue is bounded by time), the pads may queue up to this much. Outputs are
+// the same (non-live aggregation still waits for every pad); live pipelines keep latency 0.
+constexpr GstClockTime kAutoQueueTime = 100 * GST_MSECOND;
 
 struct GstTensorSyncPrivate {
   SyncPriv *p;
@@ -83,8 +92,7 @@ static GstFlowReturn gst_tensor_sync_pad_chain(GstPad *pad, GstObject *parent, G
   sp->refresh_ret = GST_FLOW_OK;
   GST_OBJECT_UNLOCK(pad);
   GstQuery *q = gst_query_new_drain();
-  gst_structure_set(gst_query_writable_structure(q), kRefreshField, G_TYPE_BOOLEAN, TRUE,
-                    nullptr);
+  gst_structure_set(gst_query_writable_structure(q), kRefreshField, G_TYPE_BOOLEAN, TRUE, nullptr);
   gboolean handled = gst_pad_query(pad, q);
   gst_query_unref(q);
   GST_OBJECT_LOCK(pad);
@@ -255,10 +263,10 @@ void negotiate(GstTensorSync *self, PadInputs &in) {
     caps.reset(gst_pad_peer_query_caps(src, want.get()));
     if (!caps || gst_caps_is_empty(caps.get())) {
       nns::gst::CapsPtr allowed(gst_pad_peer_query_caps(src, nullptr));
-      nns::fail(nns::ErrorKind::kNegotiation,
-                "downstream does not accept the output caps " +
-                    nns::gst::caps_to_string(want.get()) + " (it accepts " +
-                    nns::gst::caps_to_string(allowed.get()) + ")");
+      nns::fail(nns::ErrorKind::kNegotiation, "downstream does not accept the output caps " +
+                                                  nns::gst::caps_to_string(want.get()) +
+                                                  " (it accepts " +
+                                                  nns::gst::caps_to_string(allowed.get()) + ")");
     }
   } else {
     caps.reset(gst_caps_ref(want.get()));
@@ -300,6 +308,26 @@ GstFlowReturn produce(GstTensorSync *self, PadInputs &in) {
   gst_aggregator_selected_samples(agg, GST_BUFFER_PTS(out), GST_BUFFER_DTS(out),
                                   GST_BUFFER_DURATION(out), nullptr);
   return gst_aggregator_finish_buffer(agg, out);
+}
+
+void deepen_queues(GstTensorSync *self, PadInputs &in) {
+  SyncPriv *p = priv_of(self);
+  p->queue_checked = true;
+  GstClockTime latency = 0;
+  g_object_get(self, "latency", &latency, nullptr);
+  if (latency != 0) return;
+  for (std::size_t i = 0; i < in.count(); ++i) {
+    auto pts = in.head_pts(i);
+    if (pts && *pts == nns::kNoTime) return;  // untimed: a time limit would not bound the queue
+    GstQuery *q = gst_query_new_latency();
+    gboolean live = FALSE;
+    if (gst_pad_peer_query(GST_PAD(in.pad(i)), q))
+      gst_query_parse_latency(q, &live, nullptr, nullptr);
+    gst_query_unref(q);
+    if (live) return;
+  }
+  g_object_set(self, "latency", kAutoQueueTime, nullptr);
+  p->queue_auto = true;
 }
 
 void check_basepad(GstTensorSync *self, std::size_t pads) {
@@ -364,6 +392,7 @@ static GstFlowReturn gst_tensor_sync_aggregate(GstAggregator *agg, gboolean /*ti
     }
     PadInputs in(self);
     if (in.waiting_for_data()) return GST_AGGREGATOR_FLOW_NEED_DATA;
+    if (!p->queue_checked) deepen_queues(self, in);
     check_basepad(self, in.count());
     switch (p->sync.step(in)) {
       case nns::SyncResult::kOutput:
@@ -412,8 +441,8 @@ static gboolean gst_tensor_sync_sink_event(GstAggregator *agg, GstAggregatorPad 
       }
       if (!c.info.valid())
         nns::fail(nns::ErrorKind::kNegotiation,
-                  pad_name(sp) + ": caps do not describe complete tensors: " +
-                      nns::gst::caps_to_string(caps));
+                  pad_name(sp) +
+                      ": caps do not describe complete tensors: " + nns::gst::caps_to_string(caps));
       *sp->config = c;
       sp->configured = TRUE;
       return TRUE;
@@ -442,8 +471,8 @@ static gboolean gst_tensor_sync_start(GstAggregator *agg) {
     std::string mode_name, option;
     {
       std::lock_guard<std::mutex> g(p->lock);
-      mode_name = p->mode_name.empty() ? GST_TENSOR_SYNC_GET_CLASS(self)->default_sync_mode
-                                       : p->mode_name;
+      mode_name =
+          p->mode_name.empty() ? GST_TENSOR_SYNC_GET_CLASS(self)->default_sync_mode : p->mode_name;
       option = p->option;
     }
     if (auto check = GST_TENSOR_SYNC_GET_CLASS(self)->check_settings) check(self);
@@ -457,12 +486,16 @@ static gboolean gst_tensor_sync_start(GstAggregator *agg) {
     p->negotiated_gen = 0;
     p->negotiated_pads = 0;
     p->segment_sent = false;
+    p->queue_checked = false;
     clear_pads(self);
     return TRUE;
   });
 }
 
 static gboolean gst_tensor_sync_stop(GstAggregator *agg) {
+  SyncPriv *p = priv_of(GST_TENSOR_SYNC(agg));
+  if (p->queue_auto) g_object_set(agg, "latency", GstClockTime(0), nullptr);
+  p->queue_auto = false;
   clear_pads(GST_TENSOR_SYNC(agg));
   return TRUE;
 }
@@ -477,7 +510,9 @@ static GstFlowReturn gst_tensor_sync_flush(GstAggregator *agg) {
 
 // Caps are decided in aggregate from the inputs; GstAggregator's default negotiation (which
 // would offer downstream's caps) is not used.
-static gboolean gst_tensor_sync_negotiate(GstAggregator *) { return TRUE; }
+static gboolean gst_tensor_sync_negotiate(GstAggregator *) {
+  return TRUE;
+}
 
 static void gst_tensor_sync_finalize(GObject *object) {
   auto *self = GST_TENSOR_SYNC(object);
@@ -527,8 +562,8 @@ void sync_install_properties(GObjectClass *klass, guint first_id, const char *de
   g_object_class_install_property(
       klass, first_id + 2,
       g_param_spec_string("sync-option", "Sync option",
-                          "Option of the sync mode; basepad: <sink_id>:<duration in ns>",
-                          nullptr, ready));
+                          "Option of the sync mode; basepad: <sink_id>:<duration in ns>", nullptr,
+                          ready));
 }
 
 bool sync_set_property(GstTensorSync *self, guint first_id, guint id, const GValue *value) {
@@ -571,7 +606,9 @@ bool sync_get_property(GstTensorSync *self, guint first_id, guint id, GValue *va
   return false;
 }
 
-const TensorsConfig &sync_output_config(GstTensorSync *self) { return priv_of(self)->out_config; }
+const TensorsConfig &sync_output_config(GstTensorSync *self) {
+  return priv_of(self)->out_config;
+}
 
 void sync_slowest_rate(const std::vector<TensorsConfig> &in, int *rate_n, int *rate_d) {
   int n = -1, d = -1;

@@ -16,8 +16,7 @@
 G_BEGIN_DECLS
 
 #define GST_TYPE_TENSOR_SYNC_PAD (gst_tensor_sync_pad_get_type())
-G_DECLARE_FINAL_TYPE(GstTensorSyncPad, gst_tensor_sync_pad, GST, TENSOR_SYNC_PAD,
-                     GstAggregatorPad)
+G_DECLARE_FINAL_TYPE(GstTensorSyncPad, gst_tensor_sync_pad, GST, TENSOR_SYNC_PAD, GstAggregatorPad)
 
 #define GST_TYPE_TENSOR_SYNC (gst_tensor_sync_get_type())
 G_DECLARE_DERIVABLE_TYPE(GstTensorSync, gst_tensor_sync, GST, TENSOR_SYNC, GstAggregator)

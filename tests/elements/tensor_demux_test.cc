@@ -15,9 +15,9 @@ const char *kThree =
     "types=(string)\"uint8,uint8,int8\",framerate=30/1";
 
 GstBuffer *three(uint8_t v) {
-  return make_buffer({std::vector<uint8_t>(4, v), std::vector<uint8_t>(4, v + 1),
-                      std::vector<uint8_t>(3, v + 2)},
-                     v * 1000);
+  return make_buffer(
+      {std::vector<uint8_t>(4, v), std::vector<uint8_t>(4, v + 1), std::vector<uint8_t>(3, v + 2)},
+      v * 1000);
 }
 
 std::string pad_caps_dims(GstElement *demux, const char *pad) {
@@ -31,9 +31,10 @@ std::string pad_caps_dims(GstElement *demux, const char *pad) {
 }
 
 TEST(TensorDemux, OnePadPerTensorByDefault) {
-  Pipe p(appsrc("in", kThree) + "! tensor_demux name=d d.src_0 ! queue ! appsink name=o0 sync=false "
-                                "d.src_1 ! queue ! appsink name=o1 sync=false d.src_2 ! queue ! appsink name=o2 "
-                                "sync=false");
+  Pipe p(appsrc("in", kThree) +
+         "! tensor_demux name=d d.src_0 ! queue ! appsink name=o0 sync=false "
+         "d.src_1 ! queue ! appsink name=o1 sync=false d.src_2 ! queue ! appsink name=o2 "
+         "sync=false");
   for (auto *s : {"o0", "o1", "o2"}) p.collect(s);
   GstBuffer *b0 = three(10);
   GstMemory *m1 = gst_buffer_peek_memory(b0, 1);
@@ -84,8 +85,9 @@ TEST(TensorDemux, TensorpickGroupsAndCaps) {
 }
 
 TEST(TensorDemux, TensorpickAlternativeSeparators) {
-  Pipe p(appsrc("in", kThree) + "! tensor_demux name=d tensorpick=1+2.0 d.src_0 ! queue ! appsink "
-                                "name=o0 sync=false d.src_1 ! queue ! appsink name=o1 sync=false");
+  Pipe p(appsrc("in", kThree) +
+         "! tensor_demux name=d tensorpick=1+2.0 d.src_0 ! queue ! appsink "
+         "name=o0 sync=false d.src_1 ! queue ! appsink name=o1 sync=false");
   p.collect("o0");
   p.collect("o1");
   p.push("in", three(1));
@@ -97,7 +99,8 @@ TEST(TensorDemux, TensorpickAlternativeSeparators) {
 
 TEST(TensorDemux, FlexibleInputPadsAtFirstBuffer) {
   Pipe p(appsrc("in", "other/tensors,format=flexible,framerate=0/1") +
-         "! tensor_demux name=d d.src_0 ! queue ! appsink name=o0 sync=false d.src_1 ! queue ! appsink name=o1 "
+         "! tensor_demux name=d d.src_0 ! queue ! appsink name=o0 sync=false d.src_1 ! queue ! "
+         "appsink name=o1 "
          "sync=false");
   p.collect("o0");
   p.collect("o1");
@@ -117,8 +120,9 @@ TEST(TensorDemux, FlexibleInputPadsAtFirstBuffer) {
 
 // Issue requirement: mux of 4 streams and demux back without any copy.
 TEST(TensorDemux, MuxThenDemuxKeepsMemories) {
-  const char *caps = "other/tensors,format=static,num_tensors=1,dimensions=(string)4,"
-                     "types=uint8,framerate=30/1";
+  const char *caps =
+      "other/tensors,format=static,num_tensors=1,dimensions=(string)4,"
+      "types=uint8,framerate=30/1";
   std::string desc;
   for (int i = 0; i < 4; ++i)
     desc += appsrc("a" + std::to_string(i), caps) + "! mux.sink_" + std::to_string(i) + " ";
@@ -152,7 +156,8 @@ TEST(TensorDemux, MuxThenDemuxKeepsMemories) {
 }
 
 TEST(TensorDemux, TensorpickOutOfRangeIsABusError) {
-  Pipe p(appsrc("in", kThree) + "! tensor_demux name=d tensorpick=0,1:3 d.src_0 ! queue ! fakesink");
+  Pipe p(appsrc("in", kThree) +
+         "! tensor_demux name=d tensorpick=0,1:3 d.src_0 ! queue ! fakesink");
   p.push("in", three(1));
   p.eos("in");
   auto r = p.run();
@@ -166,16 +171,14 @@ TEST(TensorDemux, TensorpickOutOfRangeIsABusError) {
 TEST(TensorDemux, BadTensorpickGrammarIsABusError) {
   auto r = run_pipeline(appsrc("in", kThree) + "! tensor_demux name=d tensorpick=0,x ! fakesink");
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("d: tensorpick='0,x': 'x' is not a tensor index"),
-            std::string::npos)
+  EXPECT_NE(r.error_text.find("d: tensorpick='0,x': 'x' is not a tensor index"), std::string::npos)
       << r.error_text;
 }
 
 TEST(TensorDemux, WrongTensorSizeIsABusError) {
   Pipe p(appsrc("in", kThree) + "! tensor_demux name=d d.src_0 ! queue ! fakesink");
-  p.push("in", make_buffer({std::vector<uint8_t>(4), std::vector<uint8_t>(5),
-                            std::vector<uint8_t>(3)},
-                           0));
+  p.push("in", make_buffer(
+                   {std::vector<uint8_t>(4), std::vector<uint8_t>(5), std::vector<uint8_t>(3)}, 0));
   p.eos("in");
   auto r = p.run();
   ASSERT_TRUE(r.error);
@@ -189,18 +192,18 @@ TEST(TensorDemux, EosBeforeCapsIsABusError) {
   p.eos("in");
   auto r = p.run();
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("d: got EOS before any output pad was created"),
-            std::string::npos)
+  EXPECT_NE(r.error_text.find("d: got EOS before any output pad was created"), std::string::npos)
       << r.error_text;
 }
 
 // Src pads are removed on PAUSED->READY (as upstream), so the test links them on pad-added
 // every cycle instead of relying on gst_parse_launch's one-shot delayed links.
 TEST(TensorDemux, HundredStateCycles) {
-  Pipe q(appsrc("in", kThree) + "! tensor_demux name=d queue name=q0 ! fakesink "
-                                "queue name=q1 ! fakesink queue name=q2 ! fakesink");
-  g_signal_connect(q.get("d"), "pad-added", G_CALLBACK(+[](GstElement *, GstPad *pad,
-                                                            gpointer bin) {
+  Pipe q(appsrc("in", kThree) +
+         "! tensor_demux name=d queue name=q0 ! fakesink "
+         "queue name=q1 ! fakesink queue name=q2 ! fakesink");
+  g_signal_connect(q.get("d"), "pad-added",
+                   G_CALLBACK(+[](GstElement *, GstPad *pad, gpointer bin) {
                      std::string qn = "q" + std::string(GST_PAD_NAME(pad)).substr(4);
                      GstElement *qe = gst_bin_get_by_name(GST_BIN(bin), qn.c_str());
                      GstPad *sink = gst_element_get_static_pad(qe, "sink");

@@ -661,3 +661,21 @@ TEST(TensorFilterProps, CustomFilterIsUnloadedAfterClose) {
   EXPECT_EQ(count_in_maps("libcustom_passthrough.so"), 0u);
   EXPECT_LE(open_fds(), fds + 2);
 }
+
+TEST(TensorFilterCpp, ClassFromLibraryLoadedByModelList) {
+  std::string lib = filter_dir() + "/libcpp_filter_lib.so";
+  FilterHarness fh("tensor_filter framework=cpp model=tf_cpp_lib," + lib,
+                   tensors_caps("uint8", "2"));
+  EXPECT_EQ(push_pull(fh, {{1, 2}}), (std::vector<uint8_t>{4, 5}));
+}
+
+TEST(TensorFilterProps, InvokeAsyncIsAcceptedAndReadable) {
+  std::string model = write_temp("m.t", "1 uint8 4");
+  FilterHarness fh("tensor_filter framework=nnstest invoke-async=true silent=false model=" + model,
+                   tensors_caps("uint8", "4"));
+  EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
+  gboolean async = FALSE, silent = TRUE;
+  g_object_get(fh.element(), "invoke-async", &async, "silent", &silent, nullptr);
+  EXPECT_TRUE(async);
+  EXPECT_FALSE(silent);
+}

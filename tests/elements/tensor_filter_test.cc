@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_filter: loading back ends, built-in custom / custom-easy filters, shape checks and
 // their error messages.
+#include <unistd.h>
+
 #include <atomic>
 
 #include "elements/filter_test_util.h"
@@ -284,4 +286,32 @@ TEST(TensorFilter, CapsContradictingModelShowsBoth) {
               r.error_text.find("negotiat") != std::string::npos ||
               r.error_text.find("float32 10:1:1:1") != std::string::npos)
       << r.error_text;
+}
+
+TEST(TensorFilter, AfterTensorConverter) {
+  EasyModel m("tf_easy_video", easy_copy, nullptr, _NNS_UINT8, {3, 4, 4, 1}, {3, 4, 4, 1});
+  g_easy_calls = 0;
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=4,height=4,framerate=30/1 ! "
+      "tensor_converter ! tensor_filter framework=custom-easy model=tf_easy_video ! tensor_sink");
+  EXPECT_TRUE(r.eos) << r.error_text;
+  EXPECT_EQ(g_easy_calls.load(), 3);
+  r = run_pipeline(
+      "videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=8,height=4,framerate=30/1 ! "
+      "tensor_converter ! tensor_filter framework=custom-easy model=tf_easy_video ! tensor_sink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("uint8 3:8:4:1"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("the model's input is 1 tensor(s): [0] uint8 3:4:4:1"),
+            std::string::npos)
+      << r.error_text;
+}
+
+TEST(TensorFilter, CustomModelRelativeToWorkingDirectory) {
+  char old[4096];
+  ASSERT_NE(getcwd(old, sizeof old), nullptr);
+  ASSERT_EQ(chdir(filter_dir().c_str()), 0);
+  auto r = run_pipeline(fake_source(40, tensors_caps("float32", "10")) +
+                        "tensor_filter framework=custom model=libcustom_passthrough.so ! fakesink");
+  ASSERT_EQ(chdir(old), 0);
+  EXPECT_TRUE(r.eos) << r.error_text;
 }

@@ -17,8 +17,9 @@ std::vector<uint8_t> cube(uint8_t base) {
   return v;
 }
 
-const char *kCube = "other/tensors,format=static,num_tensors=1,dimensions=(string)2:2:2,"
-                    "types=uint8,framerate=30/1";
+const char *kCube =
+    "other/tensors,format=static,num_tensors=1,dimensions=(string)2:2:2,"
+    "types=uint8,framerate=30/1";
 
 struct Merged {
   std::vector<uint8_t> bytes;
@@ -61,12 +62,12 @@ TEST(TensorMerge, PropertyDefaults) {
 TEST(TensorMerge, LinearAlongEachDimension) {
   auto r0 = merge_two("0");
   EXPECT_EQ(r0.dims, "4:2:2");
-  EXPECT_EQ(r0.bytes, (std::vector<uint8_t>{0, 1, 100, 101, 2, 3, 102, 103, 4, 5, 104, 105, 6,
-                                            7, 106, 107}));
+  EXPECT_EQ(r0.bytes,
+            (std::vector<uint8_t>{0, 1, 100, 101, 2, 3, 102, 103, 4, 5, 104, 105, 6, 7, 106, 107}));
   auto r1 = merge_two("1");
   EXPECT_EQ(r1.dims, "2:4:2");
-  EXPECT_EQ(r1.bytes, (std::vector<uint8_t>{0, 1, 2, 3, 100, 101, 102, 103, 4, 5, 6, 7, 104,
-                                            105, 106, 107}));
+  EXPECT_EQ(r1.bytes,
+            (std::vector<uint8_t>{0, 1, 2, 3, 100, 101, 102, 103, 4, 5, 6, 7, 104, 105, 106, 107}));
   std::vector<uint8_t> append = cube(0);
   auto c = cube(100);
   append.insert(append.end(), c.begin(), c.end());
@@ -89,10 +90,12 @@ TEST(TensorMerge, DifferentSizesAlongTheMergedDim) {
   HarnessPtr h0(gst_harness_new_with_element(m, "sink_0", "src"));
   HarnessPtr h1(gst_harness_new_with_element(m, "sink_1", nullptr));
   gst_object_unref(m);
-  gst_harness_set_src_caps_str(h0.get(), "other/tensor,dimension=(string)3:2,type=float32,"
-                                         "framerate=30/1");
-  gst_harness_set_src_caps_str(h1.get(), "other/tensor,dimension=(string)3:1,type=float32,"
-                                         "framerate=10/1");
+  gst_harness_set_src_caps_str(h0.get(),
+                               "other/tensor,dimension=(string)3:2,type=float32,"
+                               "framerate=30/1");
+  gst_harness_set_src_caps_str(h1.get(),
+                               "other/tensor,dimension=(string)3:1,type=float32,"
+                               "framerate=10/1");
   std::vector<uint8_t> a(24, 1), b(12, 2);
   ASSERT_EQ(gst_harness_push(h0.get(), make_buffer({a}, 0)), GST_FLOW_OK);
   ASSERT_EQ(gst_harness_push(h1.get(), make_buffer({b}, 7)), GST_FLOW_OK);
@@ -176,9 +179,9 @@ TEST(TensorMerge, DifferentTypesIsABusError) {
 }
 
 TEST(TensorMerge, IncompatibleDimsIsABusError) {
-  auto r = run_two("other/tensor,dimension=(string)3:4,type=uint8,framerate=30/1",
-                   "other/tensor,dimension=(string)3:5,type=uint8,framerate=30/1", "option=0",
-                   12, 15);
+  auto r =
+      run_two("other/tensor,dimension=(string)3:4,type=uint8,framerate=30/1",
+              "other/tensor,dimension=(string)3:5,type=uint8,framerate=30/1", "option=0", 12, 15);
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("sink_1 has dimensions 3:5 but sink_0 has 3:4: dimension 1 "
                               "differs (5 vs 4)"),
@@ -187,16 +190,16 @@ TEST(TensorMerge, IncompatibleDimsIsABusError) {
 }
 
 TEST(TensorMerge, BadModeAndOption) {
-  auto r = run_pipeline(appsrc("a0", kCube) + "! m.sink_0 tensor_merge name=m mode=tiled ! "
-                                              "fakesink");
+  auto r = run_pipeline(appsrc("a0", kCube) +
+                        "! m.sink_0 tensor_merge name=m mode=tiled ! "
+                        "fakesink");
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("m: mode='tiled' is not supported (the only mode is linear)"),
             std::string::npos)
       << r.error_text;
   r = run_pipeline(appsrc("a0", kCube) + "! m.sink_0 tensor_merge name=m option=16 ! fakesink");
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("m: option='16' must be a dimension index 0..15"),
-            std::string::npos)
+  EXPECT_NE(r.error_text.find("m: option='16' must be a dimension index 0..15"), std::string::npos)
       << r.error_text;
 }
 

@@ -14,7 +14,9 @@ namespace {
 constexpr GstClockTime k30 = 33333333, k20 = 50000000, k10 = 100000000;
 const char *kCaps = "other/tensors,format=static,num_tensors=1,dimensions=(string)4,types=uint8";
 
-std::string caps_rate(int fps) { return std::string(kCaps) + ",framerate=" + std::to_string(fps) + "/1"; }
+std::string caps_rate(int fps) {
+  return std::string(kCaps) + ",framerate=" + std::to_string(fps) + "/1";
+}
 
 // Three inputs at 30, 20 and 10 fps; tensor bytes are {pad, frame, 0, 0}.
 std::string three_pads(const std::string &mux_props) {
@@ -96,8 +98,8 @@ TEST(TensorMux, PropertyDefaults) {
 
 TEST(TensorMux, NoSyncTakesOneBufferPerPad) {
   auto f = run_three("sync-mode=nosync", 4, 4, 4);
-  std::vector<Frame> want = {{0, {0, 0, 0}}, {k10, {1, 1, 1}}, {2 * k10, {2, 2, 2}},
-                             {3 * k10, {3, 3, 3}}};
+  std::vector<Frame> want = {
+      {0, {0, 0, 0}}, {k10, {1, 1, 1}}, {2 * k10, {2, 2, 2}}, {3 * k10, {3, 3, 3}}};
   EXPECT_EQ(f, want);
 }
 
@@ -111,8 +113,8 @@ TEST(TensorMux, SlowestIsDefault) {
 
 TEST(TensorMux, Basepad) {
   auto f = run_three("sync-mode=basepad sync-option=0:33333333", 10, 7, 4);
-  std::vector<Frame> want = {{0, {0, 0, 0}},        {k30, {1, 1, 0}},     {2 * k30, {2, 1, 0}},
-                             {3 * k30, {3, 2, 1}},  {4 * k30, {4, 3, 1}}, {5 * k30, {5, 3, 1}},
+  std::vector<Frame> want = {{0, {0, 0, 0}},       {k30, {1, 1, 0}},     {2 * k30, {2, 1, 0}},
+                             {3 * k30, {3, 2, 1}}, {4 * k30, {4, 3, 1}}, {5 * k30, {5, 3, 1}},
                              {6 * k30, {6, 4, 2}}};
   ASSERT_GE(f.size(), want.size());
   f.resize(want.size());
@@ -128,8 +130,9 @@ TEST(TensorMux, BasepadSecondPadDefaultDuration) {
 }
 
 TEST(TensorMux, OutputCapsAndMetadata) {
-  Pipe p(appsrc("a0", "other/tensors,format=static,num_tensors=2,dimensions=4.2:2,"
-                      "types=uint8.float32,framerate=30/1") +
+  Pipe p(appsrc("a0",
+                "other/tensors,format=static,num_tensors=2,dimensions=4.2:2,"
+                "types=uint8.float32,framerate=30/1") +
          "! mux.sink_0 " + appsrc("a1", caps_rate(10)) +
          "! mux.sink_1 tensor_mux name=mux sync-mode=nosync ! appsink name=out sync=false");
   p.collect("out");
@@ -155,12 +158,13 @@ TEST(TensorMux, NegotiatedCaps) {
   GstHarness *h1 = gst_harness_new_with_element(h0->element, "sink_1", nullptr);
   HarnessPtr hp1(h1);
   gst_harness_set_src_caps_str(
-      h0, "other/tensors,format=static,num_tensors=2,dimensions=3:4.2,types=uint8.int16,"
-          "framerate=30/1");
+      h0,
+      "other/tensors,format=static,num_tensors=2,dimensions=3:4.2,types=uint8.int16,"
+      "framerate=30/1");
   gst_harness_set_src_caps_str(h1, "other/tensor,dimension=(string)5,type=float32,framerate=15/1");
-  ASSERT_EQ(gst_harness_push(h0, make_buffer({std::vector<uint8_t>(12), std::vector<uint8_t>(4)},
-                                             0)),
-            GST_FLOW_OK);
+  ASSERT_EQ(
+      gst_harness_push(h0, make_buffer({std::vector<uint8_t>(12), std::vector<uint8_t>(4)}, 0)),
+      GST_FLOW_OK);
   ASSERT_EQ(gst_harness_push(h1, make_buffer({std::vector<uint8_t>(20)}, 0)), GST_FLOW_OK);
   GstBuffer *out = gst_harness_pull(h0);
   ASSERT_NE(out, nullptr);
@@ -242,8 +246,8 @@ TEST(TensorMux, RefreshOutputsOnEveryArrival) {
     int pad;
     GstClockTime pts;
   };
-  std::vector<Arrival> arrivals = {{0, 0}, {1, 0}, {2, 0}, {1, 10}, {2, 20}, {2, 30},
-                                   {0, 40}, {2, 50}};
+  std::vector<Arrival> arrivals = {{0, 0},  {1, 0},  {2, 0},  {1, 10},
+                                   {2, 20}, {2, 30}, {0, 40}, {2, 50}};
   std::vector<std::vector<uint8_t>> want = {{0, 1, 2}, {0, 3, 2}, {0, 3, 4},
                                             {0, 3, 5}, {6, 3, 5}, {6, 3, 7}};
   std::vector<GstClockTime> want_pts = {0, 10, 20, 30, 40, 50};
@@ -251,8 +255,7 @@ TEST(TensorMux, RefreshOutputsOnEveryArrival) {
   std::vector<GstClockTime> got_pts;
   for (std::size_t i = 0; i < arrivals.size(); ++i) {
     auto a = arrivals[i];
-    ASSERT_EQ(gst_harness_push(hs[a.pad], make_buffer({{static_cast<uint8_t>(i), 0, 0, 0}},
-                                                      a.pts)),
+    ASSERT_EQ(gst_harness_push(hs[a.pad], make_buffer({{static_cast<uint8_t>(i), 0, 0, 0}}, a.pts)),
               GST_FLOW_OK);
     if (i >= 2) {
       GstBuffer *out = gst_harness_pull(h0);
@@ -404,19 +407,19 @@ TEST(TensorMux, ReleasePadWithDataWhilePlaying) {
 TEST(TensorMux, HundredStateCycles) {
   for (const char *mode : {"slowest", "refresh"}) {
     std::string desc = "tensor_mux name=mux sync-mode=" + std::string(mode) +
-                       " ! fakesink sync=false " + appsrc("a0", caps_rate(30)) +
-                       "! mux.sink_0 " + appsrc("a1", caps_rate(30)) + "! mux.sink_1";
+                       " ! fakesink sync=false " + appsrc("a0", caps_rate(30)) + "! mux.sink_0 " +
+                       appsrc("a1", caps_rate(30)) + "! mux.sink_1";
     Pipe q(desc);
     for (int i = 0; i < 100; ++i) {
-      ASSERT_NE(gst_element_set_state(q.pipeline(), GST_STATE_PLAYING),
-                GST_STATE_CHANGE_FAILURE);
+      ASSERT_NE(gst_element_set_state(q.pipeline(), GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
       // appsrc takes buffers once started; alternate between one and both pads fed, so
       // half of the cycles stop while the mux waits for data.
       q.push("a0", make_buffer({{1, 2, 3, 4}}, 0));
       if (i % 2 == 0) {
         q.push("a1", make_buffer({{1, 2, 3, 4}}, 0));
         ASSERT_EQ(gst_element_get_state(q.pipeline(), nullptr, nullptr, 5 * GST_SECOND),
-                  GST_STATE_CHANGE_SUCCESS) << mode << " cycle " << i;
+                  GST_STATE_CHANGE_SUCCESS)
+            << mode << " cycle " << i;
       }
       ASSERT_EQ(gst_element_set_state(q.pipeline(), GST_STATE_NULL), GST_STATE_CHANGE_SUCCESS);
     }

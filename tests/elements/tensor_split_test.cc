@@ -36,9 +36,10 @@ std::string pad_dims(GstElement *e, const char *pad) {
 }
 
 TEST(TensorSplit, SegmentsAreConsecutiveByteRanges) {
-  Pipe p(appsrc("in", kRgb) + "! tensor_split name=s tensorseg=1:4:4,2:4:4 "
-                              "s.src_0 ! queue ! appsink name=o0 sync=false "
-                              "s.src_1 ! queue ! appsink name=o1 sync=false");
+  Pipe p(appsrc("in", kRgb) +
+         "! tensor_split name=s tensorseg=1:4:4,2:4:4 "
+         "s.src_0 ! queue ! appsink name=o0 sync=false "
+         "s.src_1 ! queue ! appsink name=o1 sync=false");
   p.collect("o0");
   p.collect("o1");
   GstBuffer *in = ramp(5);
@@ -66,9 +67,10 @@ TEST(TensorSplit, SegmentsAreConsecutiveByteRanges) {
 }
 
 TEST(TensorSplit, TensorpickKeepsAscendingOrderAndOwnDims) {
-  Pipe p(appsrc("in", kRgb) + "! tensor_split name=s tensorseg=1:4:4,1:4:4,1:4:4 tensorpick=2,0 "
-                              "s.src_0 ! queue ! appsink name=o0 sync=false "
-                              "s.src_1 ! queue ! appsink name=o1 sync=false");
+  Pipe p(appsrc("in", kRgb) +
+         "! tensor_split name=s tensorseg=1:4:4,1:4:4,1:4:4 tensorpick=2,0 "
+         "s.src_0 ! queue ! appsink name=o0 sync=false "
+         "s.src_1 ! queue ! appsink name=o1 sync=false");
   p.collect("o0");
   p.collect("o1");
   ASSERT_EQ(gst_element_set_state(p.pipeline(), GST_STATE_PAUSED), GST_STATE_CHANGE_ASYNC);
@@ -146,10 +148,11 @@ TEST(TensorSplit, WrongBufferSizeIsABusError) {
 }
 
 TEST(TensorSplit, HundredStateCycles) {
-  Pipe q(appsrc("in", kRgb) + "! tensor_split name=s tensorseg=1:4:4,2:4:4 queue name=q0 ! "
-                              "fakesink queue name=q1 ! fakesink");
-  g_signal_connect(q.get("s"), "pad-added", G_CALLBACK(+[](GstElement *, GstPad *pad,
-                                                            gpointer bin) {
+  Pipe q(appsrc("in", kRgb) +
+         "! tensor_split name=s tensorseg=1:4:4,2:4:4 queue name=q0 ! "
+         "fakesink queue name=q1 ! fakesink");
+  g_signal_connect(q.get("s"), "pad-added",
+                   G_CALLBACK(+[](GstElement *, GstPad *pad, gpointer bin) {
                      std::string qn = "q" + std::string(GST_PAD_NAME(pad)).substr(4);
                      GstElement *qe = gst_bin_get_by_name(GST_BIN(bin), qn.c_str());
                      GstPad *sink = gst_element_get_static_pad(qe, "sink");

@@ -30,13 +30,12 @@ GST_DEBUG_CATEGORY_STATIC(tensor_aggregator_debug);
 
 G_BEGIN_DECLS
 #define GST_TYPE_TENSOR_AGGREGATOR (gst_tensor_aggregator_get_type())
-G_DECLARE_FINAL_TYPE(GstTensorAggregator, gst_tensor_aggregator, GST, TENSOR_AGGREGATOR,
-                     GstElement)
+G_DECLARE_FINAL_TYPE(GstTensorAggregator, gst_tensor_aggregator, GST, TENSOR_AGGREGATOR, GstElement)
 G_END_DECLS
 
-#define AGG_CAPS                                       \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) 1, "  \
+#define AGG_CAPS                                                     \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                \
+  "other/tensors, format = (string) static, num_tensors = (int) 1, " \
   "framerate = (fraction) [ 0, max ]"
 
 static GstStaticPadTemplate sink_template =
@@ -101,8 +100,8 @@ bool on_caps(GstTensorAggregator *self, GstCaps *caps) {
   nns::gst::CapsPtr want(nns::gst::caps_from_config(out));
   nns::gst::CapsPtr peer(gst_pad_peer_query_caps(self->srcpad, want.get()));
   if (!peer || gst_caps_is_empty(peer.get()))
-    nns::fail(nns::ErrorKind::kNegotiation, "downstream does not accept " +
-                                                nns::gst::caps_to_string(want.get()));
+    nns::fail(nns::ErrorKind::kNegotiation,
+              "downstream does not accept " + nns::gst::caps_to_string(want.get()));
   GstCaps *fixed = gst_caps_fixate(peer.release());
   bool ok = gst_pad_set_caps(self->srcpad, fixed);
   gst_caps_unref(fixed);
@@ -152,8 +151,8 @@ GstFlowReturn aggregate(GstTensorAggregator *self, GstBuffer *buf) {
   gsize size = gst_buffer_get_size(buf);
   if (size != plan.in_size) {
     gst_buffer_unref(buf);
-    nns::fail(nns::ErrorKind::kStream, "buffer has " + std::to_string(size) +
-                                           " bytes, expected " + std::to_string(plan.in_size) +
+    nns::fail(nns::ErrorKind::kStream, "buffer has " + std::to_string(size) + " bytes, expected " +
+                                           std::to_string(plan.in_size) +
                                            " (frames-in=" + std::to_string(cfg.frames_in) +
                                            " frames of " + plan.frame.to_string() + ")");
   }
@@ -195,8 +194,7 @@ static GstFlowReturn gst_tensor_aggregator_chain(GstPad *, GstObject *parent, Gs
   return nns::gst::guard(self, GST_FLOW_ERROR, [&] { return aggregate(self, buf); });
 }
 
-static gboolean gst_tensor_aggregator_sink_event(GstPad *pad, GstObject *parent,
-                                                 GstEvent *event) {
+static gboolean gst_tensor_aggregator_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
   auto *self = GST_TENSOR_AGGREGATOR(parent);
   switch (GST_EVENT_TYPE(event)) {
     case GST_EVENT_CAPS: {
@@ -319,8 +317,8 @@ static void gst_tensor_aggregator_class_init(GstTensorAggregatorClass *klass) {
                         nns::kRankLimit - 1, nns::kRankLimit - 1, flags));
   g_object_class_install_property(
       gobject_class, PROP_CONCAT,
-      g_param_spec_boolean("concat", "Concat",
-                           "Lay the output frames out along frames-dim", TRUE, flags));
+      g_param_spec_boolean("concat", "Concat", "Lay the output frames out along frames-dim", TRUE,
+                           flags));
   g_object_class_install_property(
       gobject_class, PROP_SILENT,
       g_param_spec_boolean("silent", "Silent", "Do not log each buffer", TRUE, flags));

@@ -129,10 +129,10 @@ GstFlowReturn demux_chain(GstTensorDemux *self, GstBuffer *buf) {
         if (size != p->in.info[idx].byte_size()) {
           gst_memory_unref(mem);
           gst_buffer_unref(out);
-          nns::fail(nns::ErrorKind::kStream,
-                    "tensor " + std::to_string(idx) + " has " + std::to_string(size) +
-                        " bytes, expected " + std::to_string(p->in.info[idx].byte_size()) +
-                        " for " + p->in.info[idx].to_string());
+          nns::fail(nns::ErrorKind::kStream, "tensor " + std::to_string(idx) + " has " +
+                                                 std::to_string(size) + " bytes, expected " +
+                                                 std::to_string(p->in.info[idx].byte_size()) +
+                                                 " for " + p->in.info[idx].to_string());
         }
         nns::gst::buffer_append_tensor(out, mem, p->in.info[idx]);
       } else {

@@ -370,13 +370,12 @@ static void start_suspend_thread(GstTensorFilter *self, uint32_t ms) {
   FilterPriv *p = self->priv;
   auto inst = p->engine.instance();
   p->suspend_stop = false;
-  p->engine.set_track_activity(true);
+  inst->track_use();  // idle time is the instance's: shared instances count every user
   auto period = std::chrono::milliseconds(std::max<uint32_t>(1, std::min<uint32_t>(ms / 4, 100)));
   p->suspend_thread = std::thread([self, p, inst, ms, period] {
     std::unique_lock lk(p->suspend_mu);
     while (!p->suspend_cv.wait_for(lk, period, [p] { return p->suspend_stop; })) {
-      int64_t idle_us = g_get_monotonic_time() - p->engine.last_activity_us();
-      if (idle_us < static_cast<int64_t>(ms) * 1000 || inst->suspended()) continue;
+      if (inst->idle_us() < static_cast<int64_t>(ms) * 1000 || inst->suspended()) continue;
       GST_INFO_OBJECT(self, "idle for %u ms: suspending %s", ms, inst->describe().c_str());
       inst->suspend();
     }
@@ -406,7 +405,6 @@ static gboolean gst_tensor_filter_start(GstBaseTransform *trans) {
       std::lock_guard lk(p->engine_mu);
       p->engine.open(s);
       p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
-      p->engine.set_track_activity(false);
     }
     update_info_snapshot(self);
     if (s.suspend_ms > 0) start_suspend_thread(self, s.suspend_ms);
@@ -490,6 +488,7 @@ static GstFlowReturn gst_tensor_filter_prepare_output_buffer(GstBaseTransform *t
 static GstFlowReturn gst_tensor_filter_transform(GstBaseTransform *trans, GstBuffer *inbuf,
                                                  GstBuffer *outbuf) {
   auto *self = GST_TENSOR_FILTER(trans);
+  if (self->priv->engine.throttled(inbuf)) return GST_BASE_TRANSFORM_FLOW_DROPPED;
   return nns::gst::guard(self, GST_FLOW_ERROR, [&] {
     std::lock_guard lk(self->priv->engine_mu);
     return self->priv->engine.process(inbuf, outbuf);

@@ -57,13 +57,13 @@ struct _GstTensorMerge {
 G_DEFINE_TYPE(GstTensorMerge, gst_tensor_merge, GST_TYPE_TENSOR_SYNC)
 GST_ELEMENT_REGISTER_DEFINE(tensor_merge, "tensor_merge", GST_RANK_NONE, GST_TYPE_TENSOR_MERGE)
 
-#define MERGE_CAPS                                     \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) 1, "  \
+#define MERGE_CAPS                                                   \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                \
+  "other/tensors, format = (string) static, num_tensors = (int) 1, " \
   "framerate = (fraction) [ 0, max ]"
 
-static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
-    "sink_%u", GST_PAD_SINK, GST_PAD_REQUEST, GST_STATIC_CAPS(MERGE_CAPS));
+static GstStaticPadTemplate sink_template =
+    GST_STATIC_PAD_TEMPLATE("sink_%u", GST_PAD_SINK, GST_PAD_REQUEST, GST_STATIC_CAPS(MERGE_CAPS));
 static GstStaticPadTemplate src_template =
     GST_STATIC_PAD_TEMPLATE("src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS(MERGE_CAPS));
 
@@ -82,9 +82,9 @@ void merge_check_settings(GstTensorSync *base) {
   unsigned v = 0;
   auto [end, ec] = std::from_chars(opt.data(), opt.data() + opt.size(), v);
   if (ec != std::errc() || end != opt.data() + opt.size() || v >= nns::kRankLimit)
-    nns::fail(nns::ErrorKind::kSettings,
-              "option='" + opt + "' must be a dimension index 0.." +
-                  std::to_string(nns::kRankLimit - 1) + " for mode=linear");
+    nns::fail(nns::ErrorKind::kSettings, "option='" + opt + "' must be a dimension index 0.." +
+                                             std::to_string(nns::kRankLimit - 1) +
+                                             " for mode=linear");
   p->dim = v;
 }
 
@@ -94,9 +94,9 @@ nns::TensorsConfig merge_configure(GstTensorSync *base, const std::vector<nns::T
   std::vector<nns::TensorInfo> infos;
   for (std::size_t i = 0; i < in.size(); ++i) {
     if (in[i].info.format != nns::TensorFormat::kStatic || in[i].info.size() != 1)
-      nns::fail(nns::ErrorKind::kNegotiation,
-                names[i] + " carries " + in[i].info.to_string() + "; tensor_merge needs one "
-                "static tensor per pad");
+      nns::fail(nns::ErrorKind::kNegotiation, names[i] + " carries " + in[i].info.to_string() +
+                                                  "; tensor_merge needs one "
+                                                  "static tensor per pad");
     infos.push_back(in[i].info[0]);
   }
   nns::TensorsConfig out;
@@ -132,10 +132,10 @@ GstBuffer *merge_combine(GstTensorSync *base, GstBuffer *const *in, std::size_t 
     maps.count = i + 1;
     std::size_t want = p->plan.block[i] * p->plan.outer;
     if (maps.info[i].size != want)
-      nns::fail(nns::ErrorKind::kStream,
-                nns::gst::sync_pad_name(base, i) + ": buffer has " +
-                    std::to_string(maps.info[i].size) + " bytes, expected " +
-                    std::to_string(want) + " for " + p->in[i].to_string());
+      nns::fail(nns::ErrorKind::kStream, nns::gst::sync_pad_name(base, i) + ": buffer has " +
+                                             std::to_string(maps.info[i].size) +
+                                             " bytes, expected " + std::to_string(want) + " for " +
+                                             p->in[i].to_string());
     src[i] = maps.info[i].data;
   }
   {
@@ -226,4 +226,6 @@ static void gst_tensor_merge_class_init(GstTensorMergeClass *klass) {
                                                        GST_TYPE_AGGREGATOR_PAD);
 }
 
-static void gst_tensor_merge_init(GstTensorMerge *self) { self->priv = new MergePriv(); }
+static void gst_tensor_merge_init(GstTensorMerge *self) {
+  self->priv = new MergePriv();
+}

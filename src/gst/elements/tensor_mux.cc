@@ -50,7 +50,7 @@ struct _GstTensorMux {
 G_DEFINE_TYPE(GstTensorMux, gst_tensor_mux, GST_TYPE_TENSOR_SYNC)
 GST_ELEMENT_REGISTER_DEFINE(tensor_mux, "tensor_mux", GST_RANK_NONE, GST_TYPE_TENSOR_MUX)
 
-#define MUX_SINK_CAPS                                  \
+#define MUX_SINK_CAPS                                 \
   "other/tensor, framerate = (fraction) [ 0, max ]; " \
   "other/tensors, format = (string) { static, flexible }, framerate = (fraction) [ 0, max ]"
 #define MUX_SRC_CAPS \
@@ -82,8 +82,7 @@ nns::TensorsConfig mux_configure(GstTensorSync *base, const std::vector<nns::Ten
     out.info.format = nns::TensorFormat::kFlexible;
   } else {
     for (const auto &c : in)
-      out.info.tensors.insert(out.info.tensors.end(), c.info.tensors.begin(),
-                              c.info.tensors.end());
+      out.info.tensors.insert(out.info.tensors.end(), c.info.tensors.begin(), c.info.tensors.end());
   }
   nns::gst::sync_slowest_rate(in, &out.rate_n, &out.rate_d);
   self->priv->in = in;
@@ -100,16 +99,16 @@ GstBuffer *mux_combine(GstTensorSync *base, GstBuffer *const *in, std::size_t n)
     if (info.format == nns::TensorFormat::kStatic) {
       std::size_t count = nns::gst::buffer_tensor_count(in[i]);
       if (count != info.size())
-        nns::fail(nns::ErrorKind::kStream,
-                  nns::gst::sync_pad_name(base, i) + ": buffer has " + std::to_string(count) +
-                      " tensors, the caps say " + std::to_string(info.size()));
+        nns::fail(nns::ErrorKind::kStream, nns::gst::sync_pad_name(base, i) + ": buffer has " +
+                                               std::to_string(count) + " tensors, the caps say " +
+                                               std::to_string(info.size()));
       for (std::size_t t = 0; t < count; ++t) {
         nns::gst::MemoryPtr mem(nns::gst::buffer_get_tensor(in[i], t));
         gsize size = gst_memory_get_sizes(mem.get(), nullptr, nullptr);
         if (size != info[t].byte_size())
           nns::fail(nns::ErrorKind::kStream,
-                    nns::gst::sync_pad_name(base, i) + ": tensor " + std::to_string(t) +
-                        " has " + std::to_string(size) + " bytes, expected " +
+                    nns::gst::sync_pad_name(base, i) + ": tensor " + std::to_string(t) + " has " +
+                        std::to_string(size) + " bytes, expected " +
                         std::to_string(info[t].byte_size()) + " for " + info[t].to_string());
         if (p->flexible_out) {
           nns::MetaHeader h;
@@ -170,4 +169,6 @@ static void gst_tensor_mux_class_init(GstTensorMuxClass *klass) {
                                                        GST_TYPE_AGGREGATOR_PAD);
 }
 
-static void gst_tensor_mux_init(GstTensorMux *self) { self->priv = new MuxPriv(); }
+static void gst_tensor_mux_init(GstTensorMux *self) {
+  self->priv = new MuxPriv();
+}

@@ -30,15 +30,15 @@ G_BEGIN_DECLS
 G_DECLARE_FINAL_TYPE(GstTensorSplit, gst_tensor_split, GST, TENSOR_SPLIT, GstElement)
 G_END_DECLS
 
-#define SPLIT_CAPS                                     \
-  "other/tensor, framerate = (fraction) [ 0, max ]; " \
-  "other/tensors, format = (string) static, num_tensors = (int) 1, "  \
+#define SPLIT_CAPS                                                   \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                \
+  "other/tensors, format = (string) static, num_tensors = (int) 1, " \
   "framerate = (fraction) [ 0, max ]"
 
 static GstStaticPadTemplate sink_template =
     GST_STATIC_PAD_TEMPLATE("sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(SPLIT_CAPS));
-static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
-    "src_%u", GST_PAD_SRC, GST_PAD_SOMETIMES, GST_STATIC_CAPS(SPLIT_CAPS));
+static GstStaticPadTemplate src_template =
+    GST_STATIC_PAD_TEMPLATE("src_%u", GST_PAD_SRC, GST_PAD_SOMETIMES, GST_STATIC_CAPS(SPLIT_CAPS));
 
 namespace {
 
@@ -92,16 +92,13 @@ void on_caps(GstTensorSplit *self, GstCaps *caps) {
 
 GstFlowReturn split_chain(GstTensorSplit *self, GstBuffer *buf) {
   SplitPriv *p = self->priv;
-  if (p->pads.size() == 0)
-    nns::fail(nns::ErrorKind::kNegotiation, "received data before caps");
+  if (p->pads.size() == 0) nns::fail(nns::ErrorKind::kNegotiation, "received data before caps");
   // One memory normally; several are merged (a copy) to get one contiguous tensor.
-  nns::gst::MemoryPtr mem(gst_buffer_n_memory(buf) == 1
-                              ? gst_buffer_get_memory(buf, 0)
-                              : gst_buffer_get_all_memory(buf));
+  nns::gst::MemoryPtr mem(gst_buffer_n_memory(buf) == 1 ? gst_buffer_get_memory(buf, 0)
+                                                        : gst_buffer_get_all_memory(buf));
   gsize size = mem ? gst_memory_get_sizes(mem.get(), nullptr, nullptr) : 0;
   if (size != p->in.byte_size())
-    nns::fail(nns::ErrorKind::kStream, "buffer has " + std::to_string(size) +
-                                           " bytes, expected " +
+    nns::fail(nns::ErrorKind::kStream, "buffer has " + std::to_string(size) + " bytes, expected " +
                                            std::to_string(p->in.byte_size()) + " for " +
                                            p->in.to_string());
   GstFlowReturn ret = GST_FLOW_OK;
@@ -236,8 +233,8 @@ static void gst_tensor_split_class_init(GstTensorSplitClass *klass) {
   g_object_class_install_property(
       gobject_class, PROP_TENSORPICK,
       g_param_spec_string("tensorpick", "Tensor pick",
-                          "Indices of the segments to output, separated by ',' (empty = all)",
-                          "", ready));
+                          "Indices of the segments to output, separated by ',' (empty = all)", "",
+                          ready));
   g_object_class_install_property(
       gobject_class, PROP_TENSORSEG,
       g_param_spec_string("tensorseg", "Tensor segments",
