@@ -10,9 +10,25 @@ endif()
 if(NOT NNS_SANITIZE)
 add_test(NAME filter_python3_python_host
   COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_SOURCE_DIR}/backends/python3_host_test.py
-          $<TARGET_FILE:nns_filter_python3> ${CMAKE_CURRENT_SOURCE_DIR}/data/python)
+          $<TARGET_FILE:nns_filter_python3> ${CMAKE_CURRENT_SOURCE_DIR}/data/python
+          ${NNS_PYTHON_VERSION_MM})
 set_tests_properties(filter_python3_python_host PROPERTIES LABELS backends TIMEOUT 120
   ENVIRONMENT_MODIFICATION "PYTHONPATH=unset:")
+
+# A Python host of another version (here: a pyenv build, when there is one) gets an error from
+# open instead of calls into a mismatched interpreter.
+file(GLOB _nns_pyenv_pythons "$ENV{HOME}/.pyenv/versions/3.*/bin/python3")
+foreach(_py ${_nns_pyenv_pythons})
+  if(NOT _py MATCHES "/${NNS_PYTHON_VERSION_MM}[./]")
+    add_test(NAME filter_python3_other_python_version
+      COMMAND ${_py} ${CMAKE_CURRENT_SOURCE_DIR}/backends/python3_host_test.py
+              $<TARGET_FILE:nns_filter_python3> ${CMAKE_CURRENT_SOURCE_DIR}/data/python
+              ${NNS_PYTHON_VERSION_MM})
+    set_tests_properties(filter_python3_other_python_version PROPERTIES LABELS backends
+      TIMEOUT 120 ENVIRONMENT_MODIFICATION "PYTHONPATH=unset:")
+    break()
+  endif()
+endforeach()
 
 # tensor_filter framework=python3 in a PyGObject application (skipped, 77, without PyGObject or
 # without the tensor_filter element).
@@ -29,8 +45,8 @@ endif()
 # and site-packages the embedded interpreter uses. The fake one has a stdlib landmark and nothing
 # else, so initializing from it would fail.
 set(_fake ${CMAKE_CURRENT_BINARY_DIR}/fake_python_prefix)
-file(MAKE_DIRECTORY ${_fake}/bin ${_fake}/lib/python${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR})
-file(WRITE ${_fake}/lib/python${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR}/os.py "")
+file(MAKE_DIRECTORY ${_fake}/bin ${_fake}/lib/python${NNS_PYTHON_VERSION_MM})
+file(WRITE ${_fake}/lib/python${NNS_PYTHON_VERSION_MM}/os.py "")
 file(WRITE ${_fake}/python3.in "#!/bin/sh\nexit 1\n")
 file(COPY ${_fake}/python3.in DESTINATION ${_fake}/bin FILE_PERMISSIONS OWNER_READ OWNER_WRITE
      OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)

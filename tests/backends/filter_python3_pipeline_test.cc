@@ -4,6 +4,7 @@
 #include <gst/gst.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -103,6 +104,27 @@ TEST(FilterPython3Pipeline, TwoOutputTensors) {
     twice.insert(twice.end(), want.begin(), want.end());
     EXPECT_EQ(nns::test::read_file(dir + "/out"), twice) << mode;
   }
+}
+
+TEST(FilterPython3Pipeline, InvokeDynamicGivesFlexibleTensors) {
+  REQUIRE_PYTHON3_FILTER();
+  // dynamic.py: 8 uint8 (0..7) in; out: the input doubled, and its numpy shape as int32.
+  std::string dir = nns::test::make_temp_dir();
+  auto r = run_pipeline(
+      "fakesrc num-buffers=1 sizetype=fixed sizemax=8 filltype=pattern ! "
+      "other/tensors,format=static,num_tensors=1,types=(string)uint8,dimensions=(string)8,"
+      "framerate=0/1 ! tensor_filter framework=python3 invoke-dynamic=true model=" +
+      script("dynamic.py") + " ! other/tensors,format=flexible ! filesink location=" + dir +
+      "/out");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  // Each flexible tensor: a 128-byte header, then the data.
+  auto out = nns::test::read_file(dir + "/out");
+  ASSERT_EQ(out.size(), 128u + 8 + 128 + 4);
+  EXPECT_EQ(std::vector<uint8_t>(out.begin() + 128, out.begin() + 136),
+            (std::vector<uint8_t>{0, 2, 4, 6, 8, 10, 12, 14}));
+  int32_t n = 0;
+  std::memcpy(&n, out.data() + 128 + 8 + 128, 4);
+  EXPECT_EQ(n, 8);
 }
 
 TEST(FilterPython3Pipeline, SyntaxErrorIsABusError_n) {

@@ -371,4 +371,55 @@ TEST(FilterPython3, HostSignalHandlersUntouched) {
   EXPECT_EQ(after.sa_handler, before.sa_handler);
 }
 
+TEST(FilterPython3, InvokeDynamicShapesFromArrays) {
+  REQUIRE_BACKEND();
+  EXPECT_TRUE(backend()->flags & NNS_FILTER_FLAG_DYNAMIC);
+  Filter f(script("dynamic.py"));
+  ASSERT_EQ(f.rc, 0) << f.error();
+  for (auto [w, h] : {std::pair<uint32_t, uint32_t>{2, 3}, {4, 1}}) {
+    // Input w:h float32 (numpy shape (h, w)), values 0, 1, 2, ...
+    std::vector<float> x(w * h);
+    for (size_t i = 0; i < x.size(); i++) x[i] = static_cast<float>(i);
+    auto in = make_desc({{{w, h}, _NNS_FLOAT32}});
+    auto out = make_desc({});
+    std::vector<GstTensorMemory> ins{{x.data(), x.size() * sizeof(float)}}, outs(2);
+    ASSERT_EQ(backend()->invoke_dynamic(f.priv, in.get(), ins.data(), out.get(), outs.data(), f.err,
+                                        sizeof f.err),
+              0)
+        << f.error();
+    ASSERT_EQ(out->num_tensors, 2u);
+    EXPECT_EQ(out->tensors[0].type, static_cast<uint32_t>(_NNS_FLOAT32));
+    EXPECT_EQ(dims_of(out->tensors[0]), (std::vector<uint32_t>{h, w}));  // transposed
+    EXPECT_EQ(out->tensors[1].type, static_cast<uint32_t>(_NNS_INT32));
+    EXPECT_EQ(dims_of(out->tensors[1]), (std::vector<uint32_t>{2}));
+    ASSERT_EQ(outs[0].size, x.size() * sizeof(float));
+    const float *t = static_cast<const float *>(outs[0].data);
+    for (uint32_t r = 0; r < w; r++)  // transposed: w rows of h
+      for (uint32_t c = 0; c < h; c++) EXPECT_EQ(t[r * h + c], 2 * x[c * w + r]);
+    const int32_t *shape = static_cast<const int32_t *>(outs[1].data);
+    EXPECT_EQ(shape[0], static_cast<int32_t>(h));  // the script saw the numpy shape (h, w)
+    EXPECT_EQ(shape[1], static_cast<int32_t>(w));
+    f.release(outs);
+  }
+}
+
+TEST(FilterPython3, InvokeDynamicBadOutputs_n) {
+  REQUIRE_BACKEND();
+  for (auto [custom, want] : {std::pair<const char *, const char *>{
+                                  "bad_type", "invoke() output 0 type is numpy type '<U4'"},
+                              {"empty", "invoke() output 0 has no elements"}}) {
+    Filter f(script("dynamic.py"), custom);
+    ASSERT_EQ(f.rc, 0) << f.error();
+    float x[2] = {1, 2};
+    auto in = make_desc({{{2}, _NNS_FLOAT32}});
+    auto out = make_desc({});
+    std::vector<GstTensorMemory> ins{{x, sizeof x}}, outs(2);
+    EXPECT_NE(backend()->invoke_dynamic(f.priv, in.get(), ins.data(), out.get(), outs.data(), f.err,
+                                        sizeof f.err),
+              0);
+    EXPECT_NE(f.error().find(want), std::string::npos) << f.error();
+    EXPECT_EQ(outs[0].data, nullptr);
+  }
+}
+
 }  // namespace

@@ -1,10 +1,12 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 """The python3 filter back end loaded into a host program that is itself Python.
 
-Run by ctest as `/usr/bin/python3 python3_host_test.py <libnnstreamer_filter_python3.so> <scripts>`.
-The back end must reuse this interpreter (no second Py_Initialize, no finalize), take the GIL
-properly whether the caller released it (ctypes CFUNCTYPE) or holds it (PYFUNCTYPE), from the
-main thread and from other threads, and find nnstreamer_python without PYTHONPATH.
+Run by ctest as
+`<python> python3_host_test.py <libnnstreamer_filter_python3.so> <scripts> <X.Y built for>`.
+With the Python the back end was built for, it must reuse this interpreter (no second
+Py_Initialize, no finalize), take the GIL properly whether the caller released it (ctypes
+CFUNCTYPE) or holds it (PYFUNCTYPE), from the main thread and from other threads, and find
+nnstreamer_python without PYTHONPATH. With another Python version, open must fail cleanly.
 """
 import ctypes as C
 import os
@@ -12,13 +14,15 @@ import signal
 import sys
 import threading
 
-SO, SCRIPTS = sys.argv[1], sys.argv[2]
+SO, SCRIPTS, BUILT_FOR = sys.argv[1], sys.argv[2], sys.argv[3]
+OTHER_VERSION = "%d.%d" % sys.version_info[:2] != BUILT_FOR
 
 # The back end must find nnstreamer_python by itself: drop any build/python from the path.
 sys.path[:] = [p for p in sys.path if not os.path.isfile(os.path.join(p, "nnstreamer_python.py"))]
 assert "nnstreamer_python" not in sys.modules
 
-import numpy as np  # noqa: E402
+if not OTHER_VERSION:
+    import numpy as np  # noqa: E402
 
 
 class TensorDesc(C.Structure):
@@ -100,6 +104,15 @@ def run(priv, data, invoke=None):
     be.free_output(priv, outs[0].data)
     return rc, out, ""
 
+
+if OTHER_VERSION:
+    rc, priv, err = open_script("passthrough.py")
+    check(rc != 0 and not priv.value, "open fails under another Python version")
+    want = "built for Python %s, but the program runs Python %d.%d." % ((BUILT_FOR,) +
+                                                                     sys.version_info[:2])
+    check(want in err, "version mismatch message: " + err)
+    print("%d passed, %d failed" % (passed, failed))
+    sys.exit(1 if failed else 0)
 
 sigint_before = signal.getsignal(signal.SIGINT)
 rc, priv, err = open_script("passthrough.py")

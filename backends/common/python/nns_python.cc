@@ -113,6 +113,16 @@ bool runtime_alive() noexcept {
 }
 
 void ensure_runtime() {
+  // A Python host of another version provides its own libpython's symbols, which our calls then
+  // reach: refuse instead of running with a mismatched ABI.
+  const std::string built =
+      std::to_string(PY_MAJOR_VERSION) + "." + std::to_string(PY_MINOR_VERSION) + ".";
+  const char *running = Py_GetVersion();
+  if (!running || std::strncmp(running, built.c_str(), built.size()) != 0) {
+    std::string r = running ? running : "?";
+    throw PyError("this sub-plugin was built for Python " + built.substr(0, built.size() - 1) +
+                  ", but the program runs Python " + r.substr(0, r.find(' ')));
+  }
   std::call_once(g_init_once, initialize_interpreter);
   if (!g_init_error.empty()) throw PyError(g_init_error);
   if (!Py_IsInitialized()) throw PyError("the Python interpreter is not initialized");

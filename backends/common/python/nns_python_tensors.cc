@@ -204,12 +204,18 @@ void desc_from_shapes(PyObject *shapes, const std::string &what, nns_tensors_des
   desc = out;
 }
 
-Ref wrap_readonly(const void *data, size_t bytes, uint32_t type) {
+Ref wrap_readonly(const void *data, size_t bytes, uint32_t type, const nns_tensor_desc *shape) {
   int npy = numpy_type(type);
   size_t es = element_size(type);
   if (npy < 0 || es == 0) throw PyError("unknown tensor type " + std::to_string(type));
-  npy_intp count = static_cast<npy_intp>(bytes / es);
-  PyObject *arr = PyArray_New(&PyArray_Type, 1, &count, npy, nullptr, const_cast<void *>(data), 0,
+  npy_intp dims[NNS_TENSOR_RANK_LIMIT];
+  int nd = 1;
+  dims[0] = static_cast<npy_intp>(bytes / es);
+  if (shape && rank_of(*shape) > 0) {
+    nd = static_cast<int>(rank_of(*shape));
+    for (int j = 0; j < nd; j++) dims[j] = shape->dims[nd - 1 - j];
+  }
+  PyObject *arr = PyArray_New(&PyArray_Type, nd, dims, npy, nullptr, const_cast<void *>(data), 0,
                               NPY_ARRAY_CARRAY_RO, nullptr);
   if (!arr) throw_pending("cannot wrap a tensor as a numpy array");
   return Ref(arr);

@@ -39,8 +39,10 @@ Ref shapes_from_desc(const nns_tensors_desc &desc);
 // into `desc`. `what` names the source for messages, e.g. "getInputDim() of 'x.py'".
 void desc_from_shapes(PyObject *shapes, const std::string &what, nns_tensors_desc &desc);
 
-// A read-only 1-D numpy array of `bytes / element_size(type)` elements over `data`: no copy;
-// the memory must outlive every use the script makes of the array.
-Ref wrap_readonly(const void *data, size_t bytes, uint32_t type);
+// A read-only numpy array of `type` over `data` (no copy; the memory must outlive every use the
+// script makes of the array): 1-D with `bytes / element_size(type)` elements, or, with `shape`,
+// shaped as the tensor's dims reversed (numpy order, outermost first).
+Ref wrap_readonly(const void *data, size_t bytes, uint32_t type,
+                  const nns_tensor_desc *shape = nullptr);
 
 }  // namespace nns::py

@@ -15,6 +15,9 @@
 // only. Outputs (NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE): a returned array is lent to the host as is,
 // holding a reference until free_output; it is copied first when it is not C-contiguous, overlaps
 // an input, or overlaps an array still lent (the same array returned twice or kept by the script).
+// invoke-dynamic: inputs are shaped (numpy order) and the returned arrays' shapes and dtypes
+// describe each frame's output.
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -126,6 +129,11 @@ class Python3Filter final : public FilterBackend {
     script_call([&] { run(in, num_in, out, num_out); });
   }
 
+  void invoke_dynamic(const nns_tensors_desc &in_info, const GstTensorMemory *in,
+                      nns_tensors_desc &out_info, GstTensorMemory *out) override {
+    script_call([&] { run_dynamic(in_info, in, out_info, out); });
+  }
+
   void reload(const nns_filter_props &p) override {
     script_call([&] {
       std::string path = script_path(p);
@@ -230,9 +238,39 @@ class Python3Filter final : public FilterBackend {
     desc_from_shapes(r.get(), where + "setInputDim()", out);
   }
 
-  void run(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out, uint32_t num_out) {
+  std::string where() const { return "Python script '" + path_ + "': "; }
+
+  // Checks the inputs against `desc`, calls invoke() with one read-only array per input (1-D, or
+  // with the tensors' numpy shapes when `shaped`) and returns its result, checked to be a list.
+  // Takes the GIL; the caller holds `gil` for as long as it uses the result.
+  Ref call_script(const GstTensorMemory *in, uint32_t num_in, const nns_tensors_desc &desc,
+                  bool shaped) {
     // Messages are built on error paths only: no allocation per invoke.
-    auto where = [this] { return "Python script '" + path_ + "': "; };
+    for (uint32_t i = 0; i < num_in; i++) {
+      size_t want = tensor_bytes(desc.tensors[i]);
+      if (in[i].size != want || (!in[i].data && want))
+        throw PyError(where() + "input tensor " + std::to_string(i) + " has " +
+                      std::to_string(in[i].size) + " bytes; expected " + std::to_string(want) +
+                      " (" + dims_text(desc.tensors[i]) + " " + type_name_of(desc.tensors[i].type) +
+                      ")");
+    }
+    Ref list(PyList_New(num_in));
+    if (!list) throw_pending(where() + "cannot build the input list");
+    for (uint32_t i = 0; i < num_in; i++)
+      PyList_SET_ITEM(list.get(), i,
+                      wrap_readonly(in[i].data, in[i].size, desc.tensors[i].type,
+                                    shaped ? &desc.tensors[i] : nullptr)
+                          .release());
+    Ref res(PyObject_CallOneArg(inst_->invoke.get(), list.get()));
+    list = Ref();  // the input arrays go now unless the script kept them
+    if (!res) throw_pending(where() + "invoke() raised");
+    if (!PyList_Check(res.get()))
+      throw PyError(where() + "invoke() returned " + type_name(res.get()) +
+                    "; expected a list of numpy arrays");
+    return res;
+  }
+
+  void run(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out, uint32_t num_out) {
     if (!in_known_ || !out_known_)
       throw PyError(where() + "the input and output tensors are not known yet (setInputDim() " +
                     "has not been called: set the input first)");
@@ -240,29 +278,10 @@ class Python3Filter final : public FilterBackend {
       throw PyError(where() + "invoked with " + std::to_string(num_in) + " inputs and " +
                     std::to_string(num_out) + " outputs; the script has " +
                     std::to_string(in_.num_tensors) + " and " + std::to_string(out_.num_tensors));
-    for (uint32_t i = 0; i < num_in; i++) {
-      size_t want = tensor_bytes(in_.tensors[i]);
-      if (in[i].size != want || (!in[i].data && want))
-        throw PyError(where() + "input tensor " + std::to_string(i) + " has " +
-                      std::to_string(in[i].size) + " bytes; expected " + std::to_string(want) +
-                      " (" + dims_text(in_.tensors[i]) + " " + type_name_of(in_.tensors[i].type) +
-                      ")");
-    }
-
     // A Python host that is exiting: taking the GIL now would end this thread inside Python.
     if (!runtime_alive()) throw PyError(where() + "the Python interpreter is shutting down");
     Gil gil;
-    Ref list(PyList_New(num_in));
-    if (!list) throw_pending(where() + "cannot build the input list");
-    for (uint32_t i = 0; i < num_in; i++)
-      PyList_SET_ITEM(list.get(), i,
-                      wrap_readonly(in[i].data, in[i].size, in_.tensors[i].type).release());
-    Ref res(PyObject_CallOneArg(inst_->invoke.get(), list.get()));
-    list = Ref();  // the input arrays go now unless the script kept them
-    if (!res) throw_pending(where() + "invoke() raised");
-    if (!PyList_Check(res.get()))
-      throw PyError(where() + "invoke() returned " + type_name(res.get()) +
-                    "; expected a list of numpy arrays");
+    Ref res = call_script(in, num_in, in_, false);
     if (PyList_GET_SIZE(res.get()) != static_cast<Py_ssize_t>(num_out))
       throw PyError(where() + "invoke() returned " + std::to_string(PyList_GET_SIZE(res.get())) +
                     " arrays; the script's output has " + std::to_string(num_out) + " tensors (" +
@@ -292,6 +311,49 @@ class Python3Filter final : public FilterBackend {
     batch.commit(out);
   }
 
+  // invoke-dynamic: this frame's input shapes in `in_info`; the arrays the script returns define
+  // the output (dims = numpy shape reversed, type = dtype), lent like static outputs.
+  void run_dynamic(const nns_tensors_desc &in_info, const GstTensorMemory *in,
+                   nns_tensors_desc &out_info, GstTensorMemory *out) {
+    if (in_info.num_tensors < 1 || in_info.num_tensors > NNS_TENSOR_SIZE_LIMIT)
+      throw PyError(where() + "invoke-dynamic with " + std::to_string(in_info.num_tensors) +
+                    " input tensors");
+    if (!runtime_alive()) throw PyError(where() + "the Python interpreter is shutting down");
+    Gil gil;
+    Ref res = call_script(in, in_info.num_tensors, in_info, true);
+    Py_ssize_t n = PyList_GET_SIZE(res.get());
+    if (n < 1 || n > NNS_TENSOR_SIZE_LIMIT)
+      throw PyError(where() + "invoke() returned " + std::to_string(n) + " arrays; expected 1 to " +
+                    std::to_string(NNS_TENSOR_SIZE_LIMIT));
+    LendBatch batch(pending_, in, in_info.num_tensors);
+    for (Py_ssize_t i = 0; i < n; i++) {
+      PyObject *o = PyList_GET_ITEM(res.get(), i);
+      auto what = [&] { return where() + "invoke() output " + std::to_string(i); };
+      if (!PyArray_Check(o))
+        throw PyError(what() + " is a " + type_name(o) + ", not a numpy array");
+      auto *arr = reinterpret_cast<PyArrayObject *>(o);
+      nns_tensor_desc &t = out_info.tensors[i];
+      std::memset(&t, 0, sizeof t);
+      t.type = tensor_type_from_dtype(reinterpret_cast<PyObject *>(PyArray_DESCR(arr)),
+                                      what() + " type");
+      int nd = PyArray_NDIM(arr);
+      if (nd > NNS_TENSOR_RANK_LIMIT)
+        throw PyError(what() + " has " + std::to_string(nd) + " dimensions; the limit is " +
+                      std::to_string(NNS_TENSOR_RANK_LIMIT));
+      if (PyArray_SIZE(arr) == 0) throw PyError(what() + " has no elements");
+      t.dims[0] = 1;  // a 0-d array is one element
+      for (int j = 0; j < nd; j++) {
+        npy_intp d = PyArray_DIM(arr, nd - 1 - j);
+        if (d > 0xffffffffLL) throw PyError(what() + " has a dimension above 4294967295");
+        t.dims[j] = static_cast<uint32_t>(d);
+      }
+      if (!batch.add(o)) throw_pending(what() + ": copying failed");
+    }
+    out_info.num_tensors = static_cast<uint32_t>(n);
+    out_info.format = _NNS_TENSOR_FORMAT_STATIC;
+    batch.commit(out);
+  }
+
   std::string path_, custom_;
   std::unique_ptr<Instance> inst_;
   nns_tensors_desc in_{}, out_{};
@@ -311,7 +373,8 @@ extern "C" __attribute__((visibility("default"))) const nns_filter_backend_i *
 nns_filter_backend_entry(void) {
   static const nns_filter_backend_i table = [] {
     nns_filter_backend_i t = nns::FilterBackendAdapter<nns::py::Python3Filter>::make(
-        "python3", NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE, nns::py::kExtensions);
+        "python3", NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE | NNS_FILTER_FLAG_DYNAMIC,
+        nns::py::kExtensions);
     t.free_output = &nns::py::free_output;
     return t;
   }();
