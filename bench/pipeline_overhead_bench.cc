@@ -11,6 +11,7 @@
 //
 // usage: pipeline_overhead_bench [--buffers N] [--frames M] [--runs R]
 #include <gst/gst.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -38,23 +39,37 @@ bool has_elements(std::initializer_list<const char *> names, std::string *missin
   return true;
 }
 
-// Seconds from PLAYING to EOS; negative on error.
-double time_pipeline(const std::string &desc) {
+// Wall and process-CPU seconds (all threads of this process; less sensitive to other processes
+// on a shared machine).
+struct Timing {
+  double wall = -1;
+  double cpu = -1;
+};
+
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+// Time from PLAYING to EOS; negative on error.
+Timing time_pipeline(const std::string &desc) {
   GError *err = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &err);
   if (!p || err) {
     std::fprintf(stderr, "bench: cannot parse '%s': %s\n", desc.c_str(), err ? err->message : "?");
     if (err) g_error_free(err);
     if (p) gst_object_unref(p);
-    return -1;
+    return {};
   }
   // Parsing is not timed; start-up (state changes, negotiation) is, once per run.
   GstBus *bus = gst_element_get_bus(p);
   auto t0 = Clock::now();
+  double c0 = cpu_seconds();
   gst_element_set_state(p, GST_STATE_PLAYING);
   GstMessage *m = gst_bus_timed_pop_filtered(
       bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  double s = std::chrono::duration<double>(Clock::now() - t0).count();
+  Timing s{std::chrono::duration<double>(Clock::now() - t0).count(), cpu_seconds() - c0};
   if (!m || GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
     if (m) {
       GError *e = nullptr;
@@ -62,7 +77,7 @@ double time_pipeline(const std::string &desc) {
       std::fprintf(stderr, "bench: error in '%s': %s\n", desc.c_str(), e->message);
       g_error_free(e);
     }
-    s = -1;
+    s = Timing{};
   }
   if (m) gst_message_unref(m);
   gst_element_set_state(p, GST_STATE_NULL);
@@ -76,37 +91,43 @@ double median(std::vector<double> v) {
   return v.empty() ? -1 : v[v.size() / 2];
 }
 
-// Runs every description `runs` times, interleaved; returns the median seconds of each (or -1
-// when the configuration is unavailable or failed).
-std::vector<double> measure(const std::vector<std::string> &descs, int runs) {
-  std::vector<std::vector<double>> t(descs.size());
+// Runs every description `runs` times, interleaved; returns the median wall and CPU seconds of
+// each (negative when the configuration is unavailable or failed).
+std::vector<Timing> measure(const std::vector<std::string> &descs, int runs) {
+  std::vector<std::vector<double>> wall(descs.size()), cpu(descs.size());
   for (int r = 0; r < runs; ++r)
     for (std::size_t i = 0; i < descs.size(); ++i) {
       if (descs[i].empty()) continue;
-      double s = time_pipeline(descs[i]);
-      if (s < 0) return std::vector<double>(descs.size(), -1);
-      t[i].push_back(s);
+      Timing t = time_pipeline(descs[i]);
+      if (t.wall < 0) return std::vector<Timing>(descs.size());
+      wall[i].push_back(t.wall);
+      cpu[i].push_back(t.cpu);
     }
-  std::vector<double> out;
-  for (auto &v : t) out.push_back(v.empty() ? -1 : median(v));
+  std::vector<Timing> out(descs.size());
+  for (std::size_t i = 0; i < descs.size(); ++i)
+    if (!wall[i].empty()) out[i] = Timing{median(wall[i]), median(cpu[i])};
   return out;
 }
 
-// memcpy bandwidth (bytes/s) for blocks of `bytes`, median of 5 batches.
-double memcpy_bandwidth(std::size_t bytes) {
+// memcpy bandwidth (bytes/s, wall and process-CPU clocks) for blocks of `bytes`, median of 5
+// batches.
+Timing memcpy_bandwidth(std::size_t bytes) {
   std::vector<uint8_t> src(bytes, 1), dst(bytes);
   const int reps = std::max<int>(50, static_cast<int>((2u << 30) / bytes / 4));
-  std::vector<double> bw;
+  std::vector<double> wall, cpu;
   for (int b = 0; b < 5; ++b) {
     auto t0 = Clock::now();
+    double c0 = cpu_seconds();
     for (int i = 0; i < reps; ++i) {
       std::memcpy(dst.data(), src.data(), bytes);
       src[static_cast<std::size_t>(i) % bytes] = dst[(static_cast<std::size_t>(i) * 7) % bytes];
     }
+    double c = cpu_seconds() - c0;
     double s = std::chrono::duration<double>(Clock::now() - t0).count();
-    bw.push_back(static_cast<double>(bytes) * reps / s);
+    wall.push_back(static_cast<double>(bytes) * reps / s);
+    cpu.push_back(static_cast<double>(bytes) * reps / c);
   }
-  return median(bw);
+  return Timing{median(wall), median(cpu)};
 }
 
 struct CopyCount {
@@ -191,63 +212,60 @@ int main(int argc, char **argv) {
   // 1. Tiny frames.
   std::string src = "videotestsrc num-buffers=" + std::to_string(n) +
                     " pattern=black ! video/x-raw,format=GRAY8,width=4,height=4,framerate=0/1 ! ";
-  std::vector<std::string> d1 = {
-      src + "fakesink", have_conv ? src + "tensor_converter ! fakesink" : "",
-      have_trans ? src +
-                       "tensor_converter ! tensor_transform mode=typecast option=float32 ! "
-                       "fakesink"
-                 : ""};
+  std::vector<std::string> d1 = {src + "fakesink", "", ""};
+  if (have_conv) d1[1] = src + "tensor_converter ! fakesink";
+  if (have_trans)
+    d1[2] = src + "tensor_converter ! tensor_transform mode=typecast option=float32 ! fakesink";
   auto t1 = measure(d1, runs);
   const double us = 1e6 / n;
-  std::printf("== per-buffer cost, 4x4 GRAY8, %d buffers, median of %d runs\n", n, runs);
-  std::printf("baseline videotestsrc ! fakesink          : %8.3f us/buffer (%.3f s)\n", t1[0] * us,
-              t1[0]);
-  if (t1[1] > 0)
-    std::printf(
-        "tensor_converter                          : %8.3f us/buffer above baseline "
-        "(target <= 1.5)\n",
-        (t1[1] - t1[0]) * us);
-  else
-    std::printf("tensor_converter                          : not measured (%s)\n",
-                have_conv ? "pipeline failed" : "element not built");
-  if (t1[2] > 0)
-    std::printf(
-        "tensor_transform mode=typecast float32    : %8.3f us/buffer above the converter "
-        "pipeline (target <= 1.5)\n",
-        (t1[2] - t1[1]) * us);
-  else
-    std::printf("tensor_transform mode=typecast float32    : not measured (%s)\n",
-                have_trans ? "pipeline failed" : "element not built");
+  std::printf("== per-buffer cost, 4x4 GRAY8, %d buffers, median of %d runs (wall / process CPU)\n",
+              n, runs);
+  std::printf("%-42s: %7.3f / %7.3f us/buffer\n", "baseline videotestsrc ! fakesink",
+              t1[0].wall * us, t1[0].cpu * us);
+  auto row = [&](const char *name, const Timing &with, const Timing &without, bool built) {
+    if (with.wall > 0 && without.wall > 0)
+      std::printf("%-42s: %7.3f / %7.3f us/buffer added (target <= 1.5)\n", name,
+                  (with.wall - without.wall) * us, (with.cpu - without.cpu) * us);
+    else
+      std::printf("%-42s: not measured (%s)\n", name,
+                  built ? "pipeline failed" : "element not built");
+  };
+  row("tensor_converter", t1[1], t1[0], have_conv);
+  row("tensor_transform mode=typecast float32", t1[2], t1[1], have_trans);
 
   // 2. 224x224x3 normalisation throughput vs memcpy.
   const std::size_t out_bytes = 224u * 224 * 3 * sizeof(float);
-  double mbw = memcpy_bandwidth(out_bytes);
+  Timing mbw = memcpy_bandwidth(out_bytes);
   std::printf(
       "\n== tensor_transform typecast:float32,add:-127.5,div:127.5 on 224x224x3 uint8, "
       "%d frames, median of %d runs\n",
       frames, runs);
-  std::printf("memcpy of %zu bytes                     : %8.2f GB/s\n", out_bytes, mbw / 1e9);
+  std::printf("%-42s: %7.2f / %7.2f GB/s (wall / process CPU)\n",
+              ("memcpy of " + std::to_string(out_bytes) + " bytes").c_str(), mbw.wall / 1e9,
+              mbw.cpu / 1e9);
   if (have_trans) {
     std::string s2 = "videotestsrc num-buffers=" + std::to_string(frames) +
                      " pattern=black ! video/x-raw,format=RGB,width=224,height=224,"
                      "framerate=0/1 ! tensor_converter ! ";
-    auto t2 =
-        measure({s2 + "fakesink", s2 + "tensor_transform mode=arithmetic "
-                                       "option=typecast:float32,add:-127.5,div:127.5 ! fakesink"},
-                runs);
-    if (t2[0] > 0 && t2[1] > t2[0]) {
-      double per = (t2[1] - t2[0]) / frames;
-      double bw = out_bytes / per;
-      std::printf(
-          "transform                                 : %8.1f us/frame, %.2f GB/s output, "
-          "ratio to memcpy %.2f (target >= 0.6)\n",
-          per * 1e6, bw / 1e9, bw / mbw);
+    auto t2 = measure({s2 + "fakesink", s2 + "tensor_transform mode=arithmetic "
+                                             "option=typecast:float32,add:-127.5,div:127.5 ! "
+                                             "fakesink"},
+                      runs);
+    if (t2[0].wall > 0 && t2[1].wall > t2[0].wall) {
+      for (int k = 0; k < 2; ++k) {
+        double per = k == 0 ? (t2[1].wall - t2[0].wall) / frames : (t2[1].cpu - t2[0].cpu) / frames;
+        double bw = static_cast<double>(out_bytes) / per;
+        std::printf(
+            "%-42s: %7.1f us/frame, %.2f GB/s output, ratio to memcpy %.2f "
+            "(target >= 0.6)\n",
+            k == 0 ? "transform (wall)" : "transform (process CPU)", per * 1e6, bw / 1e9,
+            bw / (k == 0 ? mbw.wall : mbw.cpu));
+      }
     } else {
-      std::printf("transform                                 : not measured (pipeline failed)\n");
+      std::printf("%-42s: not measured (pipeline failed)\n", "transform");
     }
   } else {
-    std::printf("transform                                 : not measured (%s not built)\n",
-                missing.c_str());
+    std::printf("%-42s: not measured (%s not built)\n", "transform", missing.c_str());
   }
 
   // 3. Converter copies.
@@ -255,12 +273,12 @@ int main(int argc, char **argv) {
   if (have_conv) {
     CopyCount c = converter_copies(100);
     if (c.buffers > 0)
-      std::printf("buffers whose data was copied            : %d of %d (target 0)\n", c.copies,
+      std::printf("%-42s: %d of %d (target 0)\n", "buffers whose data was copied", c.copies,
                   c.buffers);
     else
-      std::printf("copies                                    : not measured (pipeline failed)\n");
+      std::printf("%-42s: not measured (pipeline failed)\n", "copies");
   } else {
-    std::printf("copies                                    : not measured (element not built)\n");
+    std::printf("%-42s: not measured (element not built)\n", "copies");
   }
   return 0;
 }

@@ -29,7 +29,7 @@
 #include <thread>
 #include <vector>
 
-#include "../tests/backends/backend_loader.h"
+#include "../tests/backends/backend_lib.h"
 #include "gst/plugin_init.h"
 
 namespace {

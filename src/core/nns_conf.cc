@@ -38,8 +38,8 @@ const KindInfo &kind_info(SubpluginKind k) {
   static const KindInfo kInfos[] = {
       {"filters", "libnnstreamer_filter_", "NNSTREAMER_FILTERS", "filter", "filters", ""},
       {"decoders", "libnnstreamer_decoder_", "NNSTREAMER_DECODERS", "decoder", "decoders", ""},
-      {"converters", "libnnstreamer_converter_", "NNSTREAMER_CONVERTERS", "converter",
-       "converters", ""},
+      {"converters", "libnnstreamer_converter_", "NNSTREAMER_CONVERTERS", "converter", "converters",
+       ""},
       {"customfilters", "", "NNSTREAMER_CUSTOMFILTERS", "filter", "customfilters", ""},
       {"trainers", "libnnstreamer_trainer_", "NNSTREAMER_TRAINERS", "trainer", "trainers",
        "trainer"},
@@ -74,7 +74,9 @@ std::mutex g_mutex;
 std::vector<std::unique_ptr<Conf>> g_all;  // every configuration ever loaded (kept alive)
 std::atomic<const Conf *> g_current{nullptr};
 
-const char *process_env(const char *name) { return std::getenv(name); }
+const char *process_env(const char *name) {
+  return std::getenv(name);
+}
 
 const Conf &load_current() {
   std::string path;
@@ -91,8 +93,12 @@ const Conf &load_current() {
 
 }  // namespace
 
-std::string_view kind_dir_name(SubpluginKind k) { return kind_info(k).dir; }
-std::string_view kind_prefix(SubpluginKind k) { return kind_info(k).prefix; }
+std::string_view kind_dir_name(SubpluginKind k) {
+  return kind_info(k).dir;
+}
+std::string_view kind_prefix(SubpluginKind k) {
+  return kind_info(k).prefix;
+}
 
 bool parse_bool(std::string_view s, bool def) {
   std::string t = trim(s);
@@ -244,7 +250,8 @@ std::vector<SubpluginFile> Conf::subplugins(SubpluginKind k) const {
 
 std::optional<std::string> Conf::find_subplugin(SubpluginKind k, std::string_view name) const {
   if (name.empty() || name.find('/') != std::string_view::npos) return std::nullopt;
-  std::string file = std::string(kind_prefix(k)) + std::string(name) + std::string(kSubpluginSuffix);
+  std::string file =
+      std::string(kind_prefix(k)) + std::string(name) + std::string(kSubpluginSuffix);
   for (const auto &dir : subplugin_dirs(k)) {
     std::string full = dir + "/" + file;
     if (!is_regular(full) || (!symlinks_ && is_symlink(full))) continue;

@@ -45,8 +45,7 @@ class Conf {
   // Loads a configuration explicitly (tests). `path` "" means: no file. `env` reads variables.
   static Conf load(const std::string &path, EnvFn env);
   // Parses ini text into group -> key -> value (keys and groups as written, values trimmed).
-  static std::map<std::string, std::map<std::string, std::string>> parse_ini(
-      std::string_view text);
+  static std::map<std::string, std::map<std::string, std::string>> parse_ini(std::string_view text);
 
   const std::string &path() const { return path_; }  // "" when no file was read
   bool env_enabled() const { return env_enabled_; }

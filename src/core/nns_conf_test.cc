@@ -131,8 +131,8 @@ TEST_F(ConfTest, ListsAndFindsSubpluginFiles) {
   EXPECT_FALSE(c.find_subplugin(SubpluginKind::kConverter, "baz").has_value());
   EXPECT_FALSE(c.find_subplugin(SubpluginKind::kConverter, "../a/x").has_value());
 
-  std::string ini2 = write("nns2.ini", "[common]\nenable_symlink=yes\n[converter]\nconverters=" +
-                                           dir_ + "/b\n");
+  std::string ini2 =
+      write("nns2.ini", "[common]\nenable_symlink=yes\n[converter]\nconverters=" + dir_ + "/b\n");
   Conf c2 = Conf::load(ini2, env());
   EXPECT_TRUE(c2.find_subplugin(SubpluginKind::kConverter, "link").has_value());
 }

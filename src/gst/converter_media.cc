@@ -46,21 +46,30 @@ TensorType audio_type(GstAudioFormat f, std::size_t *width, bool *other_endian) 
   *width = fi ? static_cast<std::size_t>(GST_AUDIO_FORMAT_INFO_WIDTH(fi) / 8) : 0;
   *other_endian = fi && *width > 1 && GST_AUDIO_FORMAT_INFO_ENDIANNESS(fi) != G_BYTE_ORDER;
   switch (f) {
-    case GST_AUDIO_FORMAT_S8: return TensorType::kInt8;
-    case GST_AUDIO_FORMAT_U8: return TensorType::kUInt8;
+    case GST_AUDIO_FORMAT_S8:
+      return TensorType::kInt8;
+    case GST_AUDIO_FORMAT_U8:
+      return TensorType::kUInt8;
     case GST_AUDIO_FORMAT_S16LE:
-    case GST_AUDIO_FORMAT_S16BE: return TensorType::kInt16;
+    case GST_AUDIO_FORMAT_S16BE:
+      return TensorType::kInt16;
     case GST_AUDIO_FORMAT_U16LE:
-    case GST_AUDIO_FORMAT_U16BE: return TensorType::kUInt16;
+    case GST_AUDIO_FORMAT_U16BE:
+      return TensorType::kUInt16;
     case GST_AUDIO_FORMAT_S32LE:
-    case GST_AUDIO_FORMAT_S32BE: return TensorType::kInt32;
+    case GST_AUDIO_FORMAT_S32BE:
+      return TensorType::kInt32;
     case GST_AUDIO_FORMAT_U32LE:
-    case GST_AUDIO_FORMAT_U32BE: return TensorType::kUInt32;
+    case GST_AUDIO_FORMAT_U32BE:
+      return TensorType::kUInt32;
     case GST_AUDIO_FORMAT_F32LE:
-    case GST_AUDIO_FORMAT_F32BE: return TensorType::kFloat32;
+    case GST_AUDIO_FORMAT_F32BE:
+      return TensorType::kFloat32;
     case GST_AUDIO_FORMAT_F64LE:
-    case GST_AUDIO_FORMAT_F64BE: return TensorType::kFloat64;
-    default: return TensorType::kEnd;
+    case GST_AUDIO_FORMAT_F64BE:
+      return TensorType::kFloat64;
+    default:
+      return TensorType::kEnd;
   }
 }
 
@@ -103,23 +112,35 @@ MediaKind media_kind_of(const GstStructure *s) {
 
 MediaType media_type_of(MediaKind k) {
   switch (k) {
-    case MediaKind::kVideo: return MediaType::kVideo;
-    case MediaKind::kAudio: return MediaType::kAudio;
-    case MediaKind::kText: return MediaType::kText;
-    case MediaKind::kOctet: return MediaType::kOctet;
-    default: return MediaType::kTensor;
+    case MediaKind::kVideo:
+      return MediaType::kVideo;
+    case MediaKind::kAudio:
+      return MediaType::kAudio;
+    case MediaKind::kText:
+      return MediaType::kText;
+    case MediaKind::kOctet:
+      return MediaType::kOctet;
+    default:
+      return MediaType::kTensor;
   }
 }
 
 const char *media_kind_name(MediaKind k) {
   switch (k) {
-    case MediaKind::kVideo: return "video";
-    case MediaKind::kAudio: return "audio";
-    case MediaKind::kText: return "text";
-    case MediaKind::kOctet: return "octet-stream";
-    case MediaKind::kFlexTensor: return "flexible tensors";
-    case MediaKind::kCustom: return "custom";
-    default: return "none";
+    case MediaKind::kVideo:
+      return "video";
+    case MediaKind::kAudio:
+      return "audio";
+    case MediaKind::kText:
+      return "text";
+    case MediaKind::kOctet:
+      return "octet-stream";
+    case MediaKind::kFlexTensor:
+      return "flexible tensors";
+    case MediaKind::kCustom:
+      return "custom";
+    default:
+      return "none";
   }
 }
 
@@ -144,9 +165,10 @@ MediaInfo media_from_video(const GstCaps *caps, guint frames_per_tensor) {
                                       "' is not supported; expected one of " +
                                       NNS_CONVERTER_VIDEO_FORMATS);
   if (GST_VIDEO_INFO_INTERLACE_MODE(&vinfo) != GST_VIDEO_INTERLACE_MODE_PROGRESSIVE)
-    fail(ErrorKind::kNegotiation, "caps field interlace-mode must be progressive, got " +
-                                      std::string(gst_video_interlace_mode_to_string(
-                                          GST_VIDEO_INFO_INTERLACE_MODE(&vinfo))));
+    fail(
+        ErrorKind::kNegotiation,
+        "caps field interlace-mode must be progressive, got " +
+            std::string(gst_video_interlace_mode_to_string(GST_VIDEO_INFO_INTERLACE_MODE(&vinfo))));
   const uint32_t w = GST_VIDEO_INFO_WIDTH(&vinfo), h = GST_VIDEO_INFO_HEIGHT(&vinfo);
   MediaInfo m;
   m.kind = MediaKind::kVideo;
@@ -199,8 +221,8 @@ MediaInfo media_from_audio(const GstCaps *caps, guint frames_per_tensor) {
   m.config.rate_d = 1;
   m.frame_size = GST_AUDIO_INFO_BPF(&ainfo);
   m.swap_width = swap ? width : 0;
-  m.describe = std::string("audio ") + fname + " " +
-               std::to_string(GST_AUDIO_INFO_CHANNELS(&ainfo)) + "ch";
+  m.describe =
+      std::string("audio ") + fname + " " + std::to_string(GST_AUDIO_INFO_CHANNELS(&ainfo)) + "ch";
   return m;
 }
 
@@ -244,8 +266,8 @@ GstMemory *copy_video_frame(GstBuffer *buf, const VideoLayout &l) {
   BufferMap in(buf, GST_MAP_READ);
   if (!in.ok()) fail(ErrorKind::kStream, "cannot map the input video buffer for reading");
   if (in.size() < l.size)
-    fail(ErrorKind::kStream, "video buffer has " + std::to_string(in.size()) +
-                                 " bytes, expected " + std::to_string(l.size));
+    fail(ErrorKind::kStream, "video buffer has " + std::to_string(in.size()) + " bytes, expected " +
+                                 std::to_string(l.size));
   GstMemory *out = gst_allocator_alloc(nullptr, l.tensor_bytes(), nullptr);
   MemoryMap om(out, GST_MAP_WRITE);
   guint8 *dst = om.data();
@@ -317,12 +339,17 @@ GstCaps *media_caps_for_tensor(const TensorsConfig &peer, const GstCaps *templ) 
     if (k == MediaKind::kVideo && t.type == TensorType::kUInt8) {
       GValue formats = G_VALUE_INIT;
       switch (t.dims[0]) {
-        case 1: formats = string_list({"GRAY8"}); break;
-        case 3: formats = string_list({"RGB", "BGR"}); break;
+        case 1:
+          formats = string_list({"GRAY8"});
+          break;
+        case 3:
+          formats = string_list({"RGB", "BGR"});
+          break;
         case 4:
           formats = string_list({"RGBx", "BGRx", "xRGB", "xBGR", "RGBA", "BGRA", "ARGB", "ABGR"});
           break;
-        default: break;
+        default:
+          break;
       }
       if (G_IS_VALUE(&formats)) gst_structure_take_value(s, "format", &formats);
       if (t.dims[1] > 0) gst_structure_set(s, "width", G_TYPE_INT, int(t.dims[1]), nullptr);

@@ -15,14 +15,14 @@
 namespace nns::gst {
 
 // Sink pad template pieces (NNStreamer's formats and fields).
-#define NNS_CONVERTER_VIDEO_FORMATS                                                      \
+#define NNS_CONVERTER_VIDEO_FORMATS                                                           \
   "{ RGB, BGR, RGBx, BGRx, xRGB, xBGR, RGBA, BGRA, ARGB, ABGR, GRAY8, GRAY16_BE, GRAY16_LE, " \
   "RGBP, BGRP }"
-#define NNS_CONVERTER_AUDIO_FORMATS                                                        \
+#define NNS_CONVERTER_AUDIO_FORMATS                                                         \
   "{ S8, U8, S16LE, S16BE, U16LE, U16BE, S32LE, S32BE, U32LE, U32BE, F32LE, F32BE, F64LE, " \
   "F64BE }"
-#define NNS_CONVERTER_MEDIA_CAPS_STR                                                 \
-  GST_VIDEO_CAPS_MAKE(NNS_CONVERTER_VIDEO_FORMATS)                                   \
+#define NNS_CONVERTER_MEDIA_CAPS_STR               \
+  GST_VIDEO_CAPS_MAKE(NNS_CONVERTER_VIDEO_FORMATS) \
   ", interlace-mode = (string) progressive; " GST_AUDIO_CAPS_MAKE(                   \
       NNS_CONVERTER_AUDIO_FORMATS) ", layout = (string) interleaved; "               \
                                    "text/x-raw, format = (string) utf8; "            \
@@ -54,11 +54,11 @@ struct VideoLayout {
 // What the negotiated input gives.
 struct MediaInfo {
   MediaKind kind = MediaKind::kNone;
-  TensorsConfig config;       // output for one tensor frame (frames dim already set)
-  std::size_t frame_size = 0; // bytes of one media frame (video/text: frame, audio: sample)
-  std::string describe;       // "video RGB 224x224" for messages
+  TensorsConfig config;        // output for one tensor frame (frames dim already set)
+  std::size_t frame_size = 0;  // bytes of one media frame (video/text: frame, audio: sample)
+  std::string describe;        // "video RGB 224x224" for messages
   VideoLayout video;
-  std::size_t swap_width = 0; // audio: byte-swap each sample of this width (0: none)
+  std::size_t swap_width = 0;  // audio: byte-swap each sample of this width (0: none)
 };
 
 // Each throws nns::Error naming the caps field and value when the caps are not usable.

@@ -54,9 +54,10 @@ bool ConverterRegistry::add(const NNStreamerExternalConverter *ex) {
     return false;
   }
   if (!ex->convert || !ex->get_out_config || !ex->query_caps) {
-    GST_WARNING("converter sub-plugin '%s' rejected: convert, get_out_config and query_caps are "
-                "mandatory",
-                ex->name);
+    GST_WARNING(
+        "converter sub-plugin '%s' rejected: convert, get_out_config and query_caps are "
+        "mandatory",
+        ex->name);
     return false;
   }
   std::lock_guard<std::recursive_mutex> lock(mutex_);
@@ -67,6 +68,7 @@ bool ConverterRegistry::add(const NNStreamerExternalConverter *ex) {
     }
   }
   converters_.push_back({ex->name, ex});
+  ++generation_;
   GST_INFO("registered converter sub-plugin '%s'", ex->name);
   return true;
 }
@@ -77,6 +79,7 @@ bool ConverterRegistry::remove(std::string_view name) {
                          [&](const Entry &e) { return e.name == name; });
   if (it == converters_.end()) return false;
   converters_.erase(it);
+  ++generation_;
   return true;
 }
 
@@ -87,16 +90,16 @@ void ConverterRegistry::load_file(const std::string &name, const std::string &pa
   void *handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char *err = dlerror();
-    load_errors_.emplace_back(name, std::string("cannot load ") + path + ": " +
-                                        (err ? err : "unknown dlopen error"));
+    load_errors_.emplace_back(
+        name, std::string("cannot load ") + path + ": " + (err ? err : "unknown dlopen error"));
     GST_WARNING("%s", load_errors_.back().second.c_str());
     return;
   }
   // NNStreamer-style objects registered themselves from a constructor during dlopen.
   for (const auto &e : converters_)
     if (e.name == name) return;
-  auto entry =
-      reinterpret_cast<nns_converter_subplugin_entry_fn>(dlsym(handle, NNS_CONVERTER_SUBPLUGIN_ENTRY));
+  auto entry = reinterpret_cast<nns_converter_subplugin_entry_fn>(
+      dlsym(handle, NNS_CONVERTER_SUBPLUGIN_ENTRY));
   if (!entry) {
     load_errors_.emplace_back(name, path + " neither registered a converter named '" + name +
                                         "' nor exports " NNS_CONVERTER_SUBPLUGIN_ENTRY "()");
@@ -133,7 +136,11 @@ const NNStreamerExternalConverter *ConverterRegistry::find(std::string_view name
 }
 
 void ConverterRegistry::load_all_locked() {
-  for (const auto &f : Conf::get().subplugins(SubpluginKind::kConverter)) {
+  // Folders are scanned once per configuration (Conf::reload() makes a new one).
+  const Conf &conf = Conf::get();
+  if (scanned_conf_ == &conf) return;
+  scanned_conf_ = &conf;
+  for (const auto &f : conf.subplugins(SubpluginKind::kConverter)) {
     bool have = std::any_of(converters_.begin(), converters_.end(),
                             [&](const Entry &e) { return e.name == f.name; });
     if (!have) load_file(f.name, f.path);
@@ -150,8 +157,8 @@ const NNStreamerExternalConverter *ConverterRegistry::find_for_media(std::string
     if (!caps) continue;
     bool match = false;
     for (guint i = 0; i < gst_caps_get_size(caps) && !match; ++i)
-      match = gst_structure_has_name(gst_caps_get_structure(caps, i),
-                                     std::string(media_type).c_str());
+      match =
+          gst_structure_has_name(gst_caps_get_structure(caps, i), std::string(media_type).c_str());
     gst_caps_unref(caps);
     if (match) return e.ex;
   }
@@ -171,11 +178,16 @@ std::vector<std::string> ConverterRegistry::names() {
 GstCaps *ConverterRegistry::all_caps() {
   std::lock_guard<std::recursive_mutex> lock(mutex_);
   load_all_locked();
-  GstCaps *all = gst_caps_new_empty();
-  for (const auto &e : converters_) {
-    if (GstCaps *c = e.ex->query_caps(nullptr)) all = gst_caps_merge(all, c);
+  if (!caps_cache_ || caps_generation_ != generation_) {
+    GstCaps *all = gst_caps_new_empty();
+    for (const auto &e : converters_) {
+      if (GstCaps *c = e.ex->query_caps(nullptr)) all = gst_caps_merge(all, c);
+    }
+    if (caps_cache_) gst_caps_unref(caps_cache_);
+    caps_cache_ = all;
+    caps_generation_ = generation_;
   }
-  return all;
+  return gst_caps_ref(caps_cache_);
 }
 
 std::string ConverterRegistry::load_error(std::string_view name) {
@@ -240,8 +252,7 @@ void nnstreamer_converter_set_custom_property_desc(const char *name, const char 
   va_start(ap, prop);
   for (const char *p = prop; p; p = va_arg(ap, const char *)) {
     const char *desc = va_arg(ap, const char *);
-    GST_DEBUG("converter '%s' custom property '%s': %s", name ? name : "?", p,
-              desc ? desc : "");
+    GST_DEBUG("converter '%s' custom property '%s': %s", name ? name : "?", p, desc ? desc : "");
     if (!desc) break;
   }
   va_end(ap);

@@ -67,6 +67,10 @@ class ConverterRegistry {
   std::vector<Custom> customs_;
   std::vector<std::string> tried_paths_;  // files already dlopen'ed (or failed)
   std::vector<std::pair<std::string, std::string>> load_errors_;
+  const void *scanned_conf_ = nullptr;  // configuration whose folders were last loaded
+  unsigned generation_ = 0;             // bumped on every add/remove
+  unsigned caps_generation_ = ~0u;
+  GstCaps *caps_cache_ = nullptr;
 };
 
 }  // namespace nns::gst

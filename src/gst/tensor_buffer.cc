@@ -79,6 +79,7 @@ void buffer_append_tensor(GstBuffer *buf, GstMemory *mem, const TensorInfo &info
   }
   // Repack the last memory with the extra header plus the new tensor.
   GstMemory *last = gst_buffer_peek_memory(buf, n - 1);
+  MemoryPtr keep_last(gst_memory_ref(last));  // stays valid (and mapped) past the replace below
   MemoryMap lmap(last, GST_MAP_READ);
   MemoryMap imap(incoming.get(), GST_MAP_READ);
   if (!lmap.ok() || !imap.ok()) fail(ErrorKind::kStream, "cannot map tensor memory for packing");

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 #include "gst/tensor_caps.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "gst/gst_ptr.h"
 
@@ -172,7 +174,12 @@ GstCaps *caps_from_config(const TensorsConfig &config, bool dim_variants) {
   const auto &info = config.info;
   GstStructure *s = structure_from_config(config);
   bool static_known = info.format == TensorFormat::kStatic && info.valid();
-  if (dim_variants && static_known)
+  // Dimension spellings are offered whenever every dimension is known, even if a type is not
+  // (e.g. the sink caps of a typecast derived from its src caps).
+  bool dims_known = info.format == TensorFormat::kStatic && !info.tensors.empty() &&
+                    std::all_of(info.tensors.begin(), info.tensors.end(),
+                                [](const TensorInfo &t) { return t.rank() > 0; });
+  if (dim_variants && dims_known)
     set_string_or_list(s, "dimensions", dims_variants(info, 32));
   GstCaps *caps = gst_caps_new_full(s, nullptr);
   if (static_known && info.size() == 1) {

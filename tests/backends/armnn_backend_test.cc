@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "backends/backend_loader.h"
+#include "backends/backend_lib.h"
 #include "support/harness.h"
 
 namespace {

@@ -11,7 +11,7 @@
 #include <numeric>
 
 #include "../../backends/filter/pytorch/pytorch_stats.h"
-#include "backends/backend_loader.h"
+#include "backends/backend_lib.h"
 #include "support/harness.h"
 
 namespace {

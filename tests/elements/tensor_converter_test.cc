@@ -30,8 +30,7 @@ struct Conv {
     for (const auto &kv : nns::split(props, " ")) {
       auto eq = kv.find('=');
       if (eq != std::string::npos)
-        gst_util_set_object_arg(G_OBJECT(el), kv.substr(0, eq).c_str(),
-                                kv.substr(eq + 1).c_str());
+        gst_util_set_object_arg(G_OBJECT(el), kv.substr(0, eq).c_str(), kv.substr(eq + 1).c_str());
     }
     bus = gst_bus_new();
     gst_element_set_bus(el, bus);
@@ -114,8 +113,8 @@ TEST_P(VideoFormats, ExactBytesStrideRemovalAndZeroCopy) {
   const VideoCase &c = GetParam();
   const int height = 3;
   GstVideoInfo vi;
-  ASSERT_TRUE(gst_video_info_set_format(&vi, gst_video_format_from_string(c.format), c.width,
-                                        height));
+  ASSERT_TRUE(
+      gst_video_info_set_format(&vi, gst_video_format_from_string(c.format), c.width, height));
   const bool planar = GST_VIDEO_INFO_N_PLANES(&vi) == 3;
   const gsize pixel = planar ? 1 : GST_VIDEO_INFO_COMP_PSTRIDE(&vi, 0);
   const gsize row = c.width * pixel;
@@ -148,29 +147,29 @@ TEST_P(VideoFormats, ExactBytesStrideRemovalAndZeroCopy) {
   EXPECT_EQ(shared, c.zero_copy);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    TensorConverter, VideoFormats,
-    ::testing::Values(VideoCase{"RGB", 4, "3:4:3:1", "uint8", true},
-                      VideoCase{"RGB", 5, "3:5:3:1", "uint8", false},
-                      VideoCase{"BGR", 4, "3:4:3:1", "uint8", true},
-                      VideoCase{"BGR", 6, "3:6:3:1", "uint8", false},
-                      VideoCase{"RGBx", 5, "4:5:3:1", "uint8", true},
-                      VideoCase{"BGRx", 5, "4:5:3:1", "uint8", true},
-                      VideoCase{"xRGB", 3, "4:3:3:1", "uint8", true},
-                      VideoCase{"xBGR", 3, "4:3:3:1", "uint8", true},
-                      VideoCase{"RGBA", 3, "4:3:3:1", "uint8", true},
-                      VideoCase{"BGRA", 3, "4:3:3:1", "uint8", true},
-                      VideoCase{"ARGB", 3, "4:3:3:1", "uint8", true},
-                      VideoCase{"ABGR", 3, "4:3:3:1", "uint8", true},
-                      VideoCase{"GRAY8", 8, "1:8:3:1", "uint8", true},
-                      VideoCase{"GRAY8", 7, "1:7:3:1", "uint8", false},
-                      VideoCase{"GRAY16_LE", 4, "1:4:3:1", "uint16", true},
-                      VideoCase{"GRAY16_BE", 5, "1:5:3:1", "uint16", false},
-                      VideoCase{"RGBP", 4, "4:3:3:1", "uint8", true},
-                      VideoCase{"BGRP", 5, "5:3:3:1", "uint8", false}),
-    [](const auto &info) {
-      return std::string(info.param.format) + "_w" + std::to_string(info.param.width);
-    });
+INSTANTIATE_TEST_SUITE_P(TensorConverter, VideoFormats,
+                         ::testing::Values(VideoCase{"RGB", 4, "3:4:3:1", "uint8", true},
+                                           VideoCase{"RGB", 5, "3:5:3:1", "uint8", false},
+                                           VideoCase{"BGR", 4, "3:4:3:1", "uint8", true},
+                                           VideoCase{"BGR", 6, "3:6:3:1", "uint8", false},
+                                           VideoCase{"RGBx", 5, "4:5:3:1", "uint8", true},
+                                           VideoCase{"BGRx", 5, "4:5:3:1", "uint8", true},
+                                           VideoCase{"xRGB", 3, "4:3:3:1", "uint8", true},
+                                           VideoCase{"xBGR", 3, "4:3:3:1", "uint8", true},
+                                           VideoCase{"RGBA", 3, "4:3:3:1", "uint8", true},
+                                           VideoCase{"BGRA", 3, "4:3:3:1", "uint8", true},
+                                           VideoCase{"ARGB", 3, "4:3:3:1", "uint8", true},
+                                           VideoCase{"ABGR", 3, "4:3:3:1", "uint8", true},
+                                           VideoCase{"GRAY8", 8, "1:8:3:1", "uint8", true},
+                                           VideoCase{"GRAY8", 7, "1:7:3:1", "uint8", false},
+                                           VideoCase{"GRAY16_LE", 4, "1:4:3:1", "uint16", true},
+                                           VideoCase{"GRAY16_BE", 5, "1:5:3:1", "uint16", false},
+                                           VideoCase{"RGBP", 4, "4:3:3:1", "uint8", true},
+                                           VideoCase{"BGRP", 5, "5:3:3:1", "uint8", false}),
+                         [](const auto &info) {
+                           return std::string(info.param.format) + "_w" +
+                                  std::to_string(info.param.width);
+                         });
 
 TEST(TensorConverter, Rgb224IsZeroCopy) {
   Conv conv;
@@ -226,14 +225,14 @@ TEST_P(AudioFormats, ValuesExactInNativeOrder) {
   }
   std::vector<uint8_t> stream = native;
   if (big != (G_BYTE_ORDER == G_BIG_ENDIAN))
-    for (int i = 0; i < 6; ++i) std::reverse(stream.begin() + i * width, stream.begin() + (i + 1) * width);
+    for (int i = 0; i < 6; ++i)
+      std::reverse(stream.begin() + i * width, stream.begin() + (i + 1) * width);
   if (width == 1) stream = native;
 
   Conv conv("frames-per-tensor=3");
-  gst_harness_set_src_caps_str(
-      conv.h.get(), (std::string("audio/x-raw,format=") + format +
-                     ",channels=2,rate=16000,layout=interleaved")
-                        .c_str());
+  gst_harness_set_src_caps_str(conv.h.get(), (std::string("audio/x-raw,format=") + format +
+                                              ",channels=2,rate=16000,layout=interleaved")
+                                                 .c_str());
   ASSERT_EQ(conv.push(buffer_of(stream)), GST_FLOW_OK) << conv.error();
   nns::gst::BufferPtr out(conv.pull());
   ASSERT_TRUE(out);
@@ -242,8 +241,7 @@ TEST_P(AudioFormats, ValuesExactInNativeOrder) {
   EXPECT_EQ(cfg.info.dims_string(), "2:3");
   EXPECT_EQ(cfg.rate_n, 16000);
   std::string f = format;
-  const char *type = f[0] == 'F' ? (width == 4 ? "float32" : "float64")
-                                 : nullptr;
+  const char *type = f[0] == 'F' ? (width == 4 ? "float32" : "float64") : nullptr;
   if (!type) {
     static const char *s[] = {"", "int8", "int16", "", "int32"};
     static const char *u[] = {"", "uint8", "uint16", "", "uint32"};
@@ -253,9 +251,9 @@ TEST_P(AudioFormats, ValuesExactInNativeOrder) {
 }
 
 INSTANTIATE_TEST_SUITE_P(TensorConverter, AudioFormats,
-                         ::testing::Values("S8", "U8", "S16LE", "S16BE", "U16LE", "U16BE",
-                                           "S32LE", "S32BE", "U32LE", "U32BE", "F32LE", "F32BE",
-                                           "F64LE", "F64BE"));
+                         ::testing::Values("S8", "U8", "S16LE", "S16BE", "U16LE", "U16BE", "S32LE",
+                                           "S32BE", "U32LE", "U32BE", "F32LE", "F32BE", "F64LE",
+                                           "F64BE"));
 
 TEST(TensorConverter, AudioDefaultSplitsIntoSampleFramesWithTimestamps) {
   Conv conv;  // frames-per-tensor=1: one tensor per sample frame, as NNStreamer
@@ -276,14 +274,14 @@ TEST(TensorConverter, AudioDefaultSplitsIntoSampleFramesWithTimestamps) {
 // ---- text ----------------------------------------------------------------------------------
 
 TEST(TensorConverter, TextPadsTruncatesAndAggregates) {
-  Conv conv("input-dim=8 frames-per-tensor=2");
+  Conv conv("input-dim=8 input-type=uint8 frames-per-tensor=2");  // per-frame dims
   gst_harness_set_src_caps_str(conv.h.get(), "text/x-raw,format=utf8");
   ASSERT_EQ(conv.push(buffer_of({'h', 'e', 'l', 'l', 'o'})), GST_FLOW_OK);
   ASSERT_EQ(conv.push(buffer_of({'0', '1', '2', '3', '4', '5', '6', '7', '8', '9'})), GST_FLOW_OK);
   nns::gst::BufferPtr out(conv.pull());
   ASSERT_TRUE(out);
-  EXPECT_EQ(bytes_of(out.get()), (std::vector<uint8_t>{'h', 'e', 'l', 'l', 'o', 0, 0, 0, '0',
-                                                       '1', '2', '3', '4', '5', '6', '7'}));
+  EXPECT_EQ(bytes_of(out.get()), (std::vector<uint8_t>{'h', 'e', 'l', 'l', 'o', 0, 0, 0, '0', '1',
+                                                       '2', '3', '4', '5', '6', '7'}));
   EXPECT_EQ(conv.out_config().info.dims_string(), "8:2");
   EXPECT_EQ(conv.out_config().info.types_string(), "uint8");
 }
@@ -313,7 +311,8 @@ TEST(TensorConverter, OctetFromFileWithByteSegment) {
   // filesrc sends a BYTES segment: the element turns it into a TIME one.
   auto r = run_pipeline("filesrc location=" + in +
                         " blocksize=8 ! application/octet-stream ! tensor_converter "
-                        "input-dim=2:2 input-type=uint8 ! filesink location=" + out);
+                        "input-dim=2:2 input-type=uint8 ! filesink location=" +
+                        out);
   ASSERT_TRUE(r.eos) << r.error_text;
   auto got = nns::test::read_file(out);
   EXPECT_EQ(std::string(got.begin(), got.end()), "ABCDEFGH");
@@ -375,10 +374,9 @@ GstBuffer *flexible_buffer(nns::TensorType type, std::initializer_list<uint32_t>
   h.type = type;
   h.dims = nns::make_dims(dims);
   h.format = nns::TensorFormat::kFlexible;
-  nns::gst::MemoryPtr p(gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY,
-                                               const_cast<uint8_t *>(payload.data()),
-                                               payload.size(), 0, payload.size(), nullptr,
-                                               nullptr));
+  nns::gst::MemoryPtr p(
+      gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, const_cast<uint8_t *>(payload.data()),
+                             payload.size(), 0, payload.size(), nullptr, nullptr));
   GstBuffer *b = gst_buffer_new();
   gst_buffer_append_memory(b, nns::gst::memory_with_header(h, p.get()));
   return b;
@@ -521,11 +519,11 @@ GstCaps *inproc_caps(const GstTensorsConfig *) {
 }
 
 TEST(TensorConverter, InProcessSubpluginRegistration) {
-  static NNStreamerExternalConverter bad = {"bad", nullptr, inproc_out_config, inproc_caps,
-                                            nullptr, nullptr};
+  static NNStreamerExternalConverter bad = {"bad",       nullptr, inproc_out_config,
+                                            inproc_caps, nullptr, nullptr};
   EXPECT_FALSE(registerExternalConverter(&bad));
-  static NNStreamerExternalConverter ex = {"inproc", inproc_convert, inproc_out_config,
-                                           inproc_caps, nullptr, nullptr};
+  static NNStreamerExternalConverter ex = {"inproc",    inproc_convert, inproc_out_config,
+                                           inproc_caps, nullptr,        nullptr};
   ASSERT_TRUE(registerExternalConverter(&ex));
   EXPECT_FALSE(registerExternalConverter(&ex));  // taken
   EXPECT_EQ(nnstreamer_converter_find("inproc"), &ex);
@@ -587,7 +585,8 @@ TEST(TensorConverter, OrangePngMatchesGolden) {
   auto r = run_pipeline("filesrc location=" + data +
                         "orange.png ! pngdec ! videoconvert ! videoscale ! "
                         "video/x-raw,format=RGB,width=224,height=224 ! tensor_converter ! "
-                        "filesink location=" + out);
+                        "filesink location=" +
+                        out);
   ASSERT_TRUE(r.eos) << r.error_text;
   auto got = nns::test::read_file(out);
   auto want = nns::test::read_file(data + "orange.raw");
@@ -765,11 +764,12 @@ TEST(TensorConverterPerf, Gray8x4PerBufferOverhead) {
   double i = chain_ns(ident, caps, 16, n);
   double rgb = chain_ns(conv, "video/x-raw,format=RGB,width=224,height=224,framerate=30/1",
                         224 * 224 * 3, 2000);
-  double padded = chain_ns(conv, "video/x-raw,format=RGB,width=225,height=224,framerate=30/1",
-                           676 * 224, 2000);
-  std::printf("tensor_converter GRAY8 4x4: %.0f ns/buffer (identity: %.0f ns/buffer); "
-              "RGB 224x224 (shared): %.0f ns; RGB 225x224 (stride removal): %.0f ns\n",
-              c, i, rgb, padded);
+  double padded =
+      chain_ns(conv, "video/x-raw,format=RGB,width=225,height=224,framerate=30/1", 676 * 224, 2000);
+  std::printf(
+      "tensor_converter GRAY8 4x4: %.0f ns/buffer (identity: %.0f ns/buffer); "
+      "RGB 224x224 (shared): %.0f ns; RGB 225x224 (stride removal): %.0f ns\n",
+      c, i, rgb, padded);
   gst_object_unref(conv);
   gst_object_unref(ident);
   // Target is 1.5 us; the bound is looser so a loaded machine does not fail the suite.

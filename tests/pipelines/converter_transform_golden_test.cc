@@ -68,6 +68,9 @@ TEST(PipelineGolden, TransformNormalisesOrangeToMinusOneOne) {
   auto r = floats_near(out.bytes, want, 2.5e-7f);
   EXPECT_TRUE(r);
   std::printf("  %s\n", r.message());
+  // The golden is numpy's (orange.astype(float32) + float32(-127.5)) / float32(127.5): the same
+  // float32 operations in the same order give the same bits.
+  EXPECT_TRUE(matches_golden("orange_rgb_f32_normalised", out.bytes));
 }
 
 // Row padding: GRAY8 rows of 5 pixels are 8 bytes in video buffers; tensors are dense.

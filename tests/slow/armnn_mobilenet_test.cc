@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <fstream>
 
-#include "backends/backend_loader.h"
+#include "backends/backend_lib.h"
 #include "support/harness.h"
 
 namespace {

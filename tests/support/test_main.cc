@@ -4,9 +4,25 @@
 #include <gst/gst.h>
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <string>
+
 #include "gst/plugin_init.h"
 
+// ctest passes only part of a list-valued ENVIRONMENT through gtest_discover_tests, and test
+// binaries are also run by hand: point NNStreamer's configuration at the build tree here,
+// unless the caller already did.
+static void use_build_tree_config() {
+  const std::string b = NNS_BUILD_DIR;
+  setenv("NNSTREAMER_CONF", (b + "/nnstreamer.ini").c_str(), 0);
+  setenv("NNSTREAMER_FILTERS", (b + "/subplugins/filters").c_str(), 0);
+  setenv("NNSTREAMER_DECODERS", (b + "/subplugins/decoders").c_str(), 0);
+  setenv("NNSTREAMER_CONVERTERS", (b + "/subplugins/converters").c_str(), 0);
+  setenv("PYTHONPATH", (b + "/python").c_str(), 0);
+}
+
 int main(int argc, char **argv) {
+  use_build_tree_config();
   ::testing::InitGoogleTest(&argc, argv);
   gst_init(&argc, &argv);
   if (!nns_register_static()) {

@@ -1,0 +1,271 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// ONNX Runtime back end: real-model throughput through a pipeline versus the back end called
+// directly (mobilenet_v2_quant.onnx from ../shared/models, float32 NCHW input made from
+// orange.raw).
+//  1. direct: dlopen libnnstreamer_filter_onnxruntime.so, open, invoke N times in a loop;
+//  2. pipeline: appsrc (the same input buffer pushed N times) ! tensor_filter
+//     framework=onnxruntime ! fakesink; ratio = pipeline fps / direct fps (target >= 0.97);
+//  3. parallel: appsrc ! tee ! 2 x (queue ! tensor_filter custom=NumThreads:1 ! fakesink):
+//     combined inferences/s over one single-threaded filter (target >= 1.7 on 2 cores), with the
+//     same for two direct loops in two threads as the machine's own ceiling.
+// --runs short rounds run every configuration in turn; ratios are taken within a round and the
+// median over rounds is reported (the 2-core machine is shared).
+//
+// usage: ort_pipeline_bench [--frames N] [--runs R] [--threads T] [--model PATH]
+#include <dlfcn.h>
+#include <gst/gst.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "gst/plugin_init.h"
+#include "nns_filter_backend.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Opts {
+  int frames = 60;
+  int runs = 5;
+  int threads = 1;  // NumThreads of the single-filter comparison
+  std::string model;
+  std::string input;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+std::vector<uint8_t> read_all(const std::string &p) {
+  std::ifstream f(p, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
+}
+
+// orange.raw (224x224 RGB HWC uint8) -> float32 CHW in [-1, 1], the model's input.
+std::vector<float> make_input(const std::string &raw_path) {
+  std::vector<uint8_t> img = read_all(raw_path);
+  std::vector<float> chw(3 * 224 * 224);
+  if (img.size() != chw.size()) return {};
+  for (int y = 0; y < 224; ++y)
+    for (int x = 0; x < 224; ++x)
+      for (int c = 0; c < 3; ++c)
+        chw[c * 224 * 224 + y * 224 + x] = img[(y * 224 + x) * 3 + c] / 127.5f - 1.f;
+  return chw;
+}
+
+struct Direct {
+  const nns_filter_backend_i *api = nullptr;
+  void *priv = nullptr;
+};
+
+bool open_direct(const std::string &so, const std::string &model, const std::string &custom,
+                 Direct &d) {
+  void *h = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!h) {
+    std::fprintf(stderr, "dlopen %s: %s\n", so.c_str(), dlerror());
+    return false;
+  }
+  auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
+  d.api = entry ? entry() : nullptr;
+  if (!d.api) return false;
+  const char *files[] = {model.c_str()};
+  nns_tensors_desc none{};
+  tensor_layout layouts[NNS_TENSOR_SIZE_LIMIT] = {};
+  nns_filter_props p{};
+  p.framework = "onnxruntime";
+  p.model_files = files;
+  p.num_models = 1;
+  p.input = &none;
+  p.output = &none;
+  p.custom = custom.c_str();
+  p.input_layout = layouts;
+  p.output_layout = layouts;
+  char err[512] = {0};
+  if (d.api->open(&p, &d.priv, err, sizeof(err)) != 0) {
+    std::fprintf(stderr, "open: %s\n", err);
+    return false;
+  }
+  return true;
+}
+
+// Invokes `frames` times; returns inferences per second.
+double direct_fps(Direct &d, std::vector<float> &in, int frames) {
+  std::vector<float> out(1000);
+  GstTensorMemory i = {in.data(), in.size() * 4}, o = {out.data(), out.size() * 4};
+  char err[256];
+  auto t0 = Clock::now();
+  for (int k = 0; k < frames; ++k) d.api->invoke(d.priv, &i, 1, &o, 1, err, sizeof(err));
+  return frames / std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+const char *kCaps =
+    "other/tensors,format=static,num_tensors=1,dimensions=224:224:3:1,types=float32,"
+    "framerate=0/1";
+
+void push(GstElement *src, GstBuffer *input, int k) {
+  GstBuffer *b = gst_buffer_copy(input);  // shares the memory: no data copy
+  GST_BUFFER_PTS(b) = k * GST_MSECOND;
+  GstFlowReturn ret;
+  g_signal_emit_by_name(src, "push-buffer", b, &ret);  // appsrc action signal (takes a ref)
+  gst_buffer_unref(b);
+}
+
+// Runs `desc` (with an appsrc named src): one warm-up buffer and preroll (model opened, first
+// inference done), then the same buffer `frames` times; returns frames per second from the
+// first timed push to EOS.
+double pipeline_fps(const std::string &desc, GstBuffer *input, int frames) {
+  GError *e = nullptr;
+  GstElement *p = gst_parse_launch(desc.c_str(), &e);
+  if (!p) {
+    std::fprintf(stderr, "pipeline: %s\n", e ? e->message : "?");
+    return 0;
+  }
+  GstElement *src = gst_bin_get_by_name(GST_BIN(p), "src");
+  GstCaps *caps = gst_caps_from_string(kCaps);
+  g_object_set(src, "caps", caps, "format", GST_FORMAT_TIME, "max-buffers", (guint64)4, "block",
+               TRUE, nullptr);
+  gst_caps_unref(caps);
+  gst_element_set_state(p, GST_STATE_PLAYING);
+  push(src, input, 0);
+  gst_element_get_state(p, nullptr, nullptr, 60 * GST_SECOND);  // preroll done
+  auto t0 = Clock::now();
+  for (int k = 1; k <= frames; ++k) push(src, input, k);
+  GstFlowReturn ret;
+  g_signal_emit_by_name(src, "end-of-stream", &ret);
+  GstBus *bus = gst_element_get_bus(p);
+  GstMessage *m = gst_bus_timed_pop_filtered(
+      bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+  double fps = frames / secs;
+  if (!m || GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
+    if (m) {
+      GError *err = nullptr;
+      gst_message_parse_error(m, &err, nullptr);
+      std::fprintf(stderr, "pipeline error: %s\n", err->message);
+      g_error_free(err);
+    }
+    fps = 0;
+  }
+  if (m) gst_message_unref(m);
+  gst_object_unref(bus);
+  gst_element_set_state(p, GST_STATE_NULL);
+  gst_object_unref(src);
+  gst_object_unref(p);
+  return fps;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  gst_init(&argc, &argv);
+  Opts o;
+  std::string shared = std::string(NNS_SOURCE_DIR) + "/../shared/models/upstream";
+  o.model = shared + "/models/mobilenet_v2_quant.onnx";
+  o.input = shared + "/data/orange.raw";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    std::string k = argv[i], v = argv[i + 1];
+    if (k == "--frames")
+      o.frames = std::atoi(v.c_str());
+    else if (k == "--runs")
+      o.runs = std::atoi(v.c_str());
+    else if (k == "--threads")
+      o.threads = std::atoi(v.c_str());
+    else if (k == "--model")
+      o.model = v;
+  }
+  std::string so = std::string(NNS_BUILD_DIR) +
+                   "/subplugins/filters/"
+                   "libnnstreamer_filter_onnxruntime.so";
+  std::vector<float> in = make_input(o.input);
+  if (in.empty() || !std::ifstream(o.model) || !std::ifstream(so)) {
+    std::printf("ort_pipeline_bench: skipped (needs %s, %s and %s)\n", o.model.c_str(),
+                o.input.c_str(), so.c_str());
+    return 0;
+  }
+  if (!nns_register_static()) return 1;
+  setenv("NNSTREAMER_FILTERS", (std::string(NNS_BUILD_DIR) + "/subplugins/filters").c_str(), 0);
+  GstElementFactory *tf = gst_element_factory_find("tensor_filter");
+  bool have_filter = tf != nullptr;
+  if (tf) gst_object_unref(tf);
+
+  const std::string custom = "NumThreads:" + std::to_string(o.threads);
+  Direct d1, d2, d3;
+  if (!open_direct(so, o.model, custom, d1) || !open_direct(so, o.model, "NumThreads:1", d2) ||
+      !open_direct(so, o.model, "NumThreads:1", d3))
+    return 1;
+  GstBuffer *buf = gst_buffer_new_memdup(in.data(), in.size() * 4);
+  std::string filter = "tensor_filter framework=onnxruntime model=\"" + o.model + "\"";
+  std::string single =
+      "appsrc name=src ! " + filter + " custom=" + custom + " ! fakesink sync=false";
+  std::string branch =
+      "queue max-size-buffers=2 ! " + filter + " custom=NumThreads:1 ! fakesink sync=false";
+  std::string one = "appsrc name=src ! " + branch;
+  std::string two = "appsrc name=src ! tee name=t t. ! " + branch + " t. ! " + branch;
+
+  std::string load;
+  if (std::FILE *f = std::fopen("/proc/loadavg", "r")) {
+    char b[64] = {0};
+    if (std::fgets(b, sizeof(b), f)) load.assign(b, std::strcspn(b, "\n"));
+    std::fclose(f);
+  }
+  direct_fps(d1, in, 10);  // warm-up
+  direct_fps(d2, in, 10);
+  direct_fps(d3, in, 10);
+  // Short interleaved rounds: the machine is shared, so each ratio compares runs made seconds
+  // apart, and the median over rounds is reported.
+  std::vector<double> direct, direct1, direct2, pipe, one_fps, two_fps;
+  std::vector<double> r_pipe, r_direct2, r_two;
+  for (int r = 0; r < o.runs; ++r) {
+    direct.push_back(direct_fps(d1, in, o.frames));
+    if (have_filter) {
+      pipe.push_back(pipeline_fps(single, buf, o.frames));
+      r_pipe.push_back(pipe.back() / direct.back());
+    }
+    direct1.push_back(direct_fps(d2, in, o.frames));
+    // Two direct loops in two threads, one instance each: the machine's own ceiling.
+    double a = 0, b = 0;
+    std::vector<float> in2 = in;
+    std::thread th([&] { a = direct_fps(d3, in2, o.frames); });
+    b = direct_fps(d2, in, o.frames);
+    th.join();
+    direct2.push_back(a + b);
+    r_direct2.push_back(direct2.back() / direct1.back());
+    if (have_filter) {
+      one_fps.push_back(pipeline_fps(one, buf, o.frames));
+      two_fps.push_back(2 * pipeline_fps(two, buf, o.frames));
+      r_two.push_back(two_fps.back() / one_fps.back());
+    }
+  }
+  std::printf("model %s, %d frames x %d rounds, medians (load before: %s)\n", o.model.c_str(),
+              o.frames, o.runs, load.c_str());
+  std::printf("direct loop (NumThreads:%d):          %7.1f inferences/s (%.2f ms)\n", o.threads,
+              median(direct), 1000 / median(direct));
+  std::printf("direct, 1 thread x NumThreads:1:      %7.1f inferences/s\n", median(direct1));
+  std::printf("direct, 2 threads x NumThreads:1:     %7.1f inferences/s combined, %.2fx\n",
+              median(direct2), median(r_direct2));
+  if (!have_filter) {
+    std::printf("pipeline: skipped (tensor_filter is not built yet)\n");
+  } else {
+    std::printf(
+        "pipeline appsrc ! tensor_filter:      %7.1f inferences/s, ratio %.3f "
+        "(target >= 0.97)\n",
+        median(pipe), median(r_pipe));
+    std::printf("pipeline, one queue branch:           %7.1f inferences/s\n", median(one_fps));
+    std::printf(
+        "pipeline, tee ! 2 queue branches:     %7.1f inferences/s combined, %.2fx one "
+        "branch (target >= 1.7)\n",
+        median(two_fps), median(r_two));
+  }
+  gst_buffer_unref(buf);
+  for (Direct *d : {&d1, &d2, &d3}) d->api->close(d->priv);
+  return 0;
+}

@@ -1,0 +1,100 @@
+/* SPDX-License-Identifier: LGPL-2.1-only */
+/*
+ * Single-shot inference without a pipeline (NNStreamer's nnstreamer-single.h names and
+ * semantics): open a model with a framework, query its input/output, invoke, close.
+ * Link with -lnnstreamer-single. Thread safety: one handle may be used from several threads;
+ * invokes on one handle are serialized.
+ */
+#ifndef NNSTREAMER_CPP_SINGLE_H_
+#define NNSTREAMER_CPP_SINGLE_H_
+
+#include "ml-api-common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef void *ml_single_h;
+
+typedef enum {
+  ML_NNFW_TYPE_ANY = 0,
+  ML_NNFW_TYPE_CUSTOM_FILTER = 1,
+  ML_NNFW_TYPE_TENSORFLOW_LITE = 2,
+  ML_NNFW_TYPE_TENSORFLOW = 3,
+  ML_NNFW_TYPE_NNFW = 4,
+  ML_NNFW_TYPE_MVNC = 5,
+  ML_NNFW_TYPE_OPENVINO = 6,
+  ML_NNFW_TYPE_VIVANTE = 7,
+  ML_NNFW_TYPE_EDGE_TPU = 8,
+  ML_NNFW_TYPE_ARMNN = 9,
+  ML_NNFW_TYPE_SNPE = 10,
+  ML_NNFW_TYPE_PYTORCH = 11,
+  ML_NNFW_TYPE_NNTR_INF = 12,
+  ML_NNFW_TYPE_VD_AIFW = 13,
+  ML_NNFW_TYPE_TRIX_ENGINE = 14,
+  ML_NNFW_TYPE_MXNET = 15,
+  ML_NNFW_TYPE_TVM = 16,
+  ML_NNFW_TYPE_ONNX_RUNTIME = 17,
+  ML_NNFW_TYPE_NCNN = 18,
+  ML_NNFW_TYPE_TENSORRT = 19,
+  ML_NNFW_TYPE_QNN = 20,
+  ML_NNFW_TYPE_LLAMACPP = 21,
+  ML_NNFW_TYPE_TIZEN_HAL = 22,
+  ML_NNFW_TYPE_SNAP = 0x2001,
+} ml_nnfw_type_e;
+
+typedef enum {
+  ML_NNFW_HW_ANY = 0,
+  ML_NNFW_HW_AUTO = 1,
+  ML_NNFW_HW_CPU = 0x1000,
+  ML_NNFW_HW_CPU_SIMD = 0x1100,
+  ML_NNFW_HW_CPU_NEON = 0x1100,
+  ML_NNFW_HW_GPU = 0x2000,
+  ML_NNFW_HW_NPU = 0x3000,
+  ML_NNFW_HW_NPU_MOVIDIUS = 0x3001,
+  ML_NNFW_HW_NPU_EDGE_TPU = 0x3002,
+  ML_NNFW_HW_NPU_VIVANTE = 0x3003,
+  ML_NNFW_HW_NPU_SLSI = 0x3004,
+  ML_NNFW_HW_NPU_SR = 0x13000,
+} ml_nnfw_hw_e;
+
+/* model: path(s), ',' separated. input_info/output_info may be NULL when the model knows its
+ * shapes; when given they are checked against (or applied to) the model. */
+int ml_single_open(ml_single_h *single, const char *model, const ml_tensors_info_h input_info,
+                   const ml_tensors_info_h output_info, ml_nnfw_type_e nnfw, ml_nnfw_hw_e hw);
+/* As ml_single_open, with tensor_filter's custom= string. */
+int ml_single_open_full(ml_single_h *single, const char *model,
+                        const ml_tensors_info_h input_info, const ml_tensors_info_h output_info,
+                        ml_nnfw_type_e nnfw, ml_nnfw_hw_e hw, const char *custom_option);
+/* Keys: "models" (char*), "framework_name" (char*, any tensor_filter framework= value),
+ * "input_info"/"output_info" (ml_tensors_info_h), "custom" (char*), "nnfw" (ml_nnfw_type_e*),
+ * "hw" (ml_nnfw_hw_e*). */
+int ml_single_open_with_option(ml_single_h *single, const ml_option_h option);
+int ml_single_close(ml_single_h single);
+
+/* *output is new data the caller destroys. */
+int ml_single_invoke(ml_single_h single, const ml_tensors_data_h input, ml_tensors_data_h *output);
+/* output was created by the caller from the output info; it is filled in place. */
+int ml_single_invoke_fast(ml_single_h single, const ml_tensors_data_h input,
+                          ml_tensors_data_h output);
+
+/* *info is new; the caller destroys it. */
+int ml_single_get_input_info(ml_single_h single, ml_tensors_info_h *info);
+int ml_single_get_output_info(ml_single_h single, ml_tensors_info_h *info);
+/* Changes the input shape when the back end supports it; the output info follows. */
+int ml_single_set_input_info(ml_single_h single, const ml_tensors_info_h info);
+/* Milliseconds an invoke may take before ML_ERROR_TIMED_OUT (0 = no limit). */
+int ml_single_set_timeout(ml_single_h single, unsigned int timeout);
+/* tensor_filter property names: "input", "inputtype", "output", "outputtype", "custom",
+ * "framework", "model", "accelerator" (read); "input"/"inputtype" may be set. *value is a
+ * copy the caller frees with free(). */
+int ml_single_set_property(ml_single_h single, const char *name, const char *value);
+int ml_single_get_property(ml_single_h single, const char *name, char **value);
+/* Beyond NNStreamer: the full message of this handle's last error ("" when none). */
+const char *ml_single_get_last_error(ml_single_h single);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* NNSTREAMER_CPP_SINGLE_H_ */

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// GstTensorFilterProperties (NNStreamer's layout, nnstreamer_plugin_api_filter.h) built from
+// the back-end ABI's nns_filter_props, for the built-in custom, custom-easy and cpp back ends.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "nns_filter_backend.h"
+#include "nnstreamer_plugin_api_filter.h"
+
+namespace nns {
+
+class CompatProps {
+ public:
+  explicit CompatProps(const nns_filter_props &p);
+  ~CompatProps();
+  CompatProps(const CompatProps &) = delete;
+  CompatProps &operator=(const CompatProps &) = delete;
+
+  GstTensorFilterProperties *get() { return &prop_; }
+  const GstTensorFilterProperties *get() const { return &prop_; }
+  // Records the negotiated shapes (input_meta/output_meta, *_configured, *_ranks).
+  void set_input(const nns_tensors_desc &d);
+  void set_output(const nns_tensors_desc &d);
+  void set_input(const GstTensorsInfo &i);
+  void set_output(const GstTensorsInfo &i);
+
+ private:
+  GstTensorFilterProperties prop_;
+  std::string fwname_, custom_, accl_;
+  std::vector<std::string> models_;
+  std::vector<const char *> model_ptrs_;
+};
+
+}  // namespace nns

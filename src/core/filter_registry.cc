@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+#include "core/filter_registry.h"
+
+#include <dlfcn.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/error.h"
+#include "core/nns_conf.h"
+#include "core/tensor_info.h"
+
+namespace nns {
+namespace {
+
+constexpr const char *kPrefix = "libnnstreamer_filter_";
+constexpr const char *kSuffix = ".so";
+
+std::string lower(std::string s) {
+  for (char &c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The registry's view of nns::Conf (nnstreamer.ini + environment).
+class ConfView final : public FilterConf {
+ public:
+  explicit ConfView(const Conf &c) : c_(c) {}
+  std::vector<std::string> filter_dirs() const override {
+    return c_.subplugin_dirs(SubpluginKind::kFilter);
+  }
+  std::vector<std::string> framework_priority(const std::string &ext) const override {
+    return c_.framework_priority(ext);
+  }
+  std::string value(const std::string &group, const std::string &key) const override {
+    return c_.value(group, key).value_or("");
+  }
+
+ private:
+  const Conf &c_;
+};
+
+bool is_file(const std::string &p) {
+  struct stat st;
+  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+bool is_dir(const std::string &p) {
+  struct stat st;
+  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+std::string extension_of(const std::string &path) {
+  auto slash = path.find_last_of('/');
+  auto dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  return lower(path.substr(dot + 1));
+}
+
+std::string join(const std::vector<std::string> &v, const std::string &sep) {
+  std::string out;
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? sep : "") + v[i];
+  return out;
+}
+
+void push_unique(std::vector<std::string> &v, const std::string &s) {
+  if (!s.empty() && std::find(v.begin(), v.end(), s) == v.end()) v.push_back(s);
+}
+
+bool is_tflite_alias(const std::string &n) {
+  return n == "tensorflow-lite" || n == "tensorflow1-lite" || n == "tensorflow2-lite" ||
+         n == "tflite";
+}
+
+// NNStreamer's detection table (SPEC.md section 3) plus .onnx.
+std::vector<std::string> defaults_for_ext(const std::string &ext) {
+  static const std::map<std::string, std::vector<std::string>> table = {
+      {"tflite", {"tensorflow-lite"}},
+      {"pb", {"tensorflow"}},
+      {"pt", {"pytorch"}},
+      {"dlc", {"snpe"}},
+      {"py", {"python3"}},
+      {"graph", {"movidius-ncsdk2"}},
+      {"ini", {"nntrainer"}},
+      {"circle", {"nnfw"}},
+      {"so", {"custom"}},
+      {"dylib", {"custom"}},
+      {"bin", {"openvino"}},
+      {"xml", {"openvino"}},
+      {"tvn", {"trix-engine"}},
+      {"nb", {"vivante"}},
+      {"gguf", {"llamacpp"}},
+      {"onnx", {"onnxruntime", "opencv"}},
+  };
+  auto it = table.find(ext);
+  return it == table.end() ? std::vector<std::string>{} : it->second;
+}
+
+}  // namespace
+
+std::unique_ptr<FilterConf> current_filter_conf() {
+  return std::make_unique<ConfView>(Conf::get());
+}
+
+void validate_backend_table(const nns_filter_backend_i *t, const std::string &origin) {
+  if (!t) fail(ErrorKind::kLibrary, origin + ": nns_filter_backend_entry() returned NULL");
+  if (t->api_version != NNS_FILTER_BACKEND_API_VERSION)
+    fail(ErrorKind::kLibrary,
+         origin + " was built for filter back-end API version " + std::to_string(t->api_version) +
+             ", but this nnstreamer-cpp needs version " +
+             std::to_string(NNS_FILTER_BACKEND_API_VERSION) + "; rebuild the back end");
+  if (!t->name || !*t->name) fail(ErrorKind::kLibrary, origin + ": back end has no name");
+  if (!t->open || !t->close || !t->invoke)
+    fail(ErrorKind::kLibrary, origin + ": back end '" + t->name +
+                                  "' lacks a mandatory function (open, close or invoke)");
+}
+
+FilterRegistry &FilterRegistry::get() {
+  static FilterRegistry *r = new FilterRegistry();  // never destroyed: back ends outlive exit
+  return *r;
+}
+
+FilterRegistry::FilterRegistry() {
+  for (auto *t : {builtin_custom_backend(), builtin_custom_easy_backend(), builtin_cpp_backend()})
+    builtin_[t->name] = t;
+}
+
+void FilterRegistry::add_builtin(const nns_filter_backend_i *iface) {
+  validate_backend_table(iface, "built-in back end");
+  std::lock_guard lk(mu_);
+  builtin_[iface->name] = iface;
+}
+
+void FilterRegistry::remove_builtin(const std::string &name) {
+  std::lock_guard lk(mu_);
+  builtin_.erase(name);
+}
+
+const nns_filter_backend_i *FilterRegistry::load_file(const std::string &path) {
+  std::lock_guard lk(mu_);
+  if (auto it = loaded_.find(path); it != loaded_.end()) return it->second;
+  dlerror();
+  void *h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!h) {
+    const char *e = dlerror();
+    fail(ErrorKind::kLibrary, "cannot load " + path + ": " + (e ? e : "unknown dlopen error"));
+  }
+  auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
+  if (!entry) {
+    dlclose(h);
+    fail(ErrorKind::kLibrary,
+         path + " is not a filter back end: it does not export " + NNS_FILTER_BACKEND_ENTRY + "()");
+  }
+  const nns_filter_backend_i *t = entry();
+  try {
+    validate_backend_table(t, path);
+  } catch (...) {
+    dlclose(h);
+    throw;
+  }
+  loaded_[path] = t;  // the handle stays open for the life of the process
+  return t;
+}
+
+BackendRef FilterRegistry::find(const std::string &name, const FilterConf &conf) {
+  {
+    std::lock_guard lk(mu_);
+    if (auto it = builtin_.find(name); it != builtin_.end()) return {it->second, "built-in"};
+  }
+  if (name.empty() || name.find('/') != std::string::npos) return {};
+  for (const auto &dir : conf.filter_dirs()) {
+    std::string path = dir + "/" + kPrefix + name + kSuffix;
+    if (is_file(path)) return {load_file(path), path};
+  }
+  return {};
+}
+
+std::vector<std::string> FilterRegistry::name_candidates(const std::string &framework,
+                                                         const FilterConf &conf) {
+  std::vector<std::string> out;
+  push_unique(out, framework);
+  for (auto &n : split(conf.value(framework, "subplugin_priority"), ",")) push_unique(out, n);
+  push_unique(out, trim(conf.value("filter-aliases", framework)));
+  if (is_tflite_alias(framework)) {
+    for (auto &n : conf.framework_priority("tflite"))
+      if (!is_tflite_alias(n)) push_unique(out, n);
+    push_unique(out, "armnn");
+  }
+  return out;
+}
+
+std::vector<std::string> FilterRegistry::auto_candidates(const std::vector<std::string> &models,
+                                                         const FilterConf &conf) {
+  std::vector<std::string> base;
+  if (models.size() == 1) {
+    if (is_dir(models[0])) {
+      base.push_back("nnfw");
+    } else {
+      std::string ext = extension_of(models[0]);
+      if (!ext.empty()) {
+        for (auto &n : conf.framework_priority(ext)) push_unique(base, n);
+        for (auto &n : defaults_for_ext(ext)) push_unique(base, n);
+      }
+    }
+  } else if (models.size() == 2) {
+    std::string e0 = extension_of(models[0]), e1 = extension_of(models[1]);
+    if (e0 == "pb" && e1 == "pb" && models[0] != models[1]) base.push_back("caffe2");
+    if ((e0 == "so" && e1 == "nb") || (e0 == "nb" && e1 == "so")) base.push_back("vivante");
+  }
+  std::vector<std::string> out;
+  for (auto &b : base)
+    for (auto &n : name_candidates(b, conf)) push_unique(out, n);
+  return out;
+}
+
+BackendRef FilterRegistry::resolve(const std::string &framework,
+                                   const std::vector<std::string> &models, const FilterConf &conf) {
+  std::string fw = trim(framework);
+  bool is_auto = fw.empty() || fw == "auto";
+  std::vector<std::string> cands;
+  if (is_auto) {
+    if (models.empty())
+      fail(ErrorKind::kSettings,
+           "framework=auto needs a model to detect the framework from; set model= or framework=");
+    cands = auto_candidates(models, conf);
+    if (cands.empty())
+      fail(ErrorKind::kSettings, "framework=auto cannot tell which framework reads model '" +
+                                     join(models, ",") +
+                                     "' from its extension; set framework= explicitly");
+  } else {
+    cands = name_candidates(fw, conf);
+  }
+  for (const auto &c : cands)
+    if (BackendRef r = find(c, conf)) return r;
+
+  std::vector<std::string> files;
+  for (auto &c : cands) files.push_back(std::string(kPrefix) + c + kSuffix);
+  std::string dirs = join(conf.filter_dirs(), ", ");
+  if (dirs.empty()) dirs = "(no folders configured)";
+  std::string tried = files.size() == 1 ? "no " + files[0] : "none of " + join(files, ", ");
+  if (is_auto)
+    fail(ErrorKind::kNotFound,
+         "framework=auto: model '" + join(models, ",") + "' needs " +
+             (cands.size() == 1 ? "framework '" + cands[0] + "'" : "one of " + join(cands, ", ")) +
+             ", which is not available: " + tried + " in " + dirs);
+  fail(ErrorKind::kNotFound, "framework '" + fw + "' is not available: " + tried + " in " + dirs);
+}
+
+std::vector<std::string> FilterRegistry::available(const FilterConf &conf) {
+  std::vector<std::string> out;
+  {
+    std::lock_guard lk(mu_);
+    for (const char *n : {"custom", "custom-easy", "cpp"})
+      if (builtin_.count(n)) out.push_back(n);
+    std::vector<std::string> extra;
+    for (auto &[n, t] : builtin_)
+      if (n != "custom" && n != "custom-easy" && n != "cpp") extra.push_back(n);
+    std::sort(extra.begin(), extra.end());
+    for (auto &n : extra) push_unique(out, n);
+  }
+  std::vector<std::string> found;
+  std::error_code ec;
+  for (const auto &dir : conf.filter_dirs()) {
+    for (auto it = std::filesystem::directory_iterator(dir, ec);
+         !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+      std::string f = it->path().filename().string();
+      std::size_t pl = std::char_traits<char>::length(kPrefix);
+      if (f.size() > pl + 3 && f.compare(0, pl, kPrefix) == 0 &&
+          f.compare(f.size() - 3, 3, kSuffix) == 0)
+        found.push_back(f.substr(pl, f.size() - pl - 3));
+    }
+    ec.clear();
+  }
+  std::sort(found.begin(), found.end());
+  for (auto &n : found) push_unique(out, n);
+  return out;
+}
+
+}  // namespace nns

@@ -1,0 +1,685 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+/**
+ * SECTION:element-tensor_filter
+ *
+ * Runs a neural network model on each tensor frame. The framework (filter back end) is
+ * built in (custom, custom-easy, cpp) or loaded from libnnstreamer_filter_<name>.so in the
+ * folders of nnstreamer.ini / NNSTREAMER_FILTERS; framework=auto picks it from the model file
+ * extension. Caps come from the model when it knows its shapes; input=/output= (+ types)
+ * override them and are checked against the model.
+ *
+ *   gst-launch-1.0 videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=224,height=224 !
+ *     tensor_converter ! tensor_filter framework=onnxruntime model=mobilenet.onnx ! tensor_sink
+ *
+ * See docs/elements/tensor_filter.md for every property.
+ */
+#include <gst/base/gstbasetransform.h>
+
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+#include "core/error.h"
+#include "core/filter_registry.h"
+#include "gst/config_file.h"
+#include "gst/element_glue.h"
+#include "gst/filter_engine.h"
+#include "gst/filter_settings.h"
+#include "gst/tensor_caps.h"
+
+GST_DEBUG_CATEGORY_STATIC(tensor_filter_debug);
+#define GST_CAT_DEFAULT tensor_filter_debug
+
+G_BEGIN_DECLS
+#define GST_TYPE_TENSOR_FILTER (gst_tensor_filter_get_type())
+G_DECLARE_FINAL_TYPE(GstTensorFilter, gst_tensor_filter, GST, TENSOR_FILTER, GstBaseTransform)
+G_END_DECLS
+
+namespace {
+
+using nns::gst::FilterSettings;
+
+constexpr const char *kUpdateModelEvent = "evt_update_model";
+
+struct FilterPriv {
+  explicit FilterPriv(GstBaseTransform *self) : engine(self) {}
+
+  std::mutex settings_mu;
+  FilterSettings settings;
+  std::vector<std::string> config_problems;
+  std::string last_caps_error;  // streaming thread only
+
+  std::mutex engine_mu;  // start/stop/caps/transform/reload
+  nns::gst::FilterEngine engine;
+
+  std::mutex info_mu;  // snapshots for get_property
+  nns::TensorsInfo in_info, out_info;
+
+  // suspend=
+  std::thread suspend_thread;
+  std::mutex suspend_mu;
+  std::condition_variable suspend_cv;
+  bool suspend_stop = false;
+};
+
+enum {
+  PROP_0,
+  PROP_SILENT,
+  PROP_FRAMEWORK,
+  PROP_MODEL,
+  PROP_INPUT,
+  PROP_INPUTTYPE,
+  PROP_INPUTNAME,
+  PROP_INPUTLAYOUT,
+  PROP_INPUTRANKS,
+  PROP_OUTPUT,
+  PROP_OUTPUTTYPE,
+  PROP_OUTPUTNAME,
+  PROP_OUTPUTLAYOUT,
+  PROP_OUTPUTRANKS,
+  PROP_CUSTOM,
+  PROP_SUBPLUGINS,
+  PROP_ACCELERATOR,
+  PROP_IS_UPDATABLE,
+  PROP_LATENCY,
+  PROP_THROUGHPUT,
+  PROP_INPUTCOMBINATION,
+  PROP_OUTPUTCOMBINATION,
+  PROP_SHARED_KEY,
+  PROP_LATENCY_REPORT,
+  PROP_INVOKE_DYNAMIC,
+  PROP_INVOKE_ASYNC,
+  PROP_CONFIG_FILE,
+  PROP_SUSPEND,
+};
+
+}  // namespace
+
+struct _GstTensorFilter {
+  GstBaseTransform parent;
+  FilterPriv *priv;
+};
+
+G_DEFINE_TYPE(GstTensorFilter, gst_tensor_filter, GST_TYPE_BASE_TRANSFORM)
+GST_ELEMENT_REGISTER_DEFINE(tensor_filter, "tensor_filter", GST_RANK_NONE, GST_TYPE_TENSOR_FILTER)
+
+static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
+    "sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_TENSOR_CAPS_ANY_STR));
+static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
+    "src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_TENSOR_CAPS_ANY_STR));
+
+static std::string *string_prop(FilterSettings &s, guint id) {
+  switch (id) {
+    case PROP_FRAMEWORK:
+      return &s.framework;
+    case PROP_MODEL:
+      return &s.model;
+    case PROP_INPUT:
+      return &s.input;
+    case PROP_INPUTTYPE:
+      return &s.inputtype;
+    case PROP_INPUTNAME:
+      return &s.inputname;
+    case PROP_INPUTLAYOUT:
+      return &s.inputlayout;
+    case PROP_OUTPUT:
+      return &s.output;
+    case PROP_OUTPUTTYPE:
+      return &s.outputtype;
+    case PROP_OUTPUTNAME:
+      return &s.outputname;
+    case PROP_OUTPUTLAYOUT:
+      return &s.outputlayout;
+    case PROP_CUSTOM:
+      return &s.custom;
+    case PROP_ACCELERATOR:
+      return &s.accelerator;
+    case PROP_INPUTCOMBINATION:
+      return &s.input_combination;
+    case PROP_OUTPUTCOMBINATION:
+      return &s.output_combination;
+    case PROP_SHARED_KEY:
+      return &s.shared_key;
+    case PROP_CONFIG_FILE:
+      return &s.config_file;
+    default:
+      return nullptr;
+  }
+}
+
+static void update_profiling(GstTensorFilter *self) {
+  FilterPriv *p = self->priv;
+  FilterSettings s;
+  {
+    std::lock_guard lk(p->settings_mu);
+    s = p->settings;
+  }
+  p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
+}
+
+// is-updatable: a new model while running is loaded into the open instance.
+static void reload_model(GstTensorFilter *self, const std::string &model) {
+  FilterPriv *p = self->priv;
+  nns::gst::guard_void(self, [&] {
+    std::lock_guard lk(p->engine_mu);
+    if (!p->engine.is_open()) return;
+    GST_INFO_OBJECT(self, "reloading model %s", model.c_str());
+    p->engine.reload(nns::gst::split_models(model));
+  });
+}
+
+static void gst_tensor_filter_set_property(GObject *object, guint id, const GValue *value,
+                                           GParamSpec *pspec) {
+  auto *self = GST_TENSOR_FILTER(object);
+  FilterPriv *p = self->priv;
+  std::string config_path;
+  bool reload = false;
+  std::string new_model;
+  {
+    std::lock_guard lk(p->settings_mu);
+    FilterSettings &s = p->settings;
+    if (std::string *str = string_prop(s, id)) {
+      const gchar *v = g_value_get_string(value);
+      std::string nv = v ? v : "";
+      if (id == PROP_FRAMEWORK && nv.empty()) nv = "auto";
+      if (id == PROP_MODEL && s.is_updatable && nv != s.model) {
+        reload = true;
+        new_model = nv;
+      }
+      *str = nv;
+      if (id == PROP_CONFIG_FILE) config_path = nv;
+    } else {
+      switch (id) {
+        case PROP_SILENT:
+          s.silent = g_value_get_boolean(value);
+          break;
+        case PROP_IS_UPDATABLE:
+          s.is_updatable = g_value_get_boolean(value);
+          break;
+        case PROP_LATENCY:
+          s.latency_mode = g_value_get_int(value);
+          break;
+        case PROP_THROUGHPUT:
+          s.throughput_mode = g_value_get_int(value);
+          break;
+        case PROP_LATENCY_REPORT:
+          s.latency_report = g_value_get_boolean(value);
+          break;
+        case PROP_INVOKE_DYNAMIC:
+          s.invoke_dynamic = g_value_get_boolean(value);
+          break;
+        case PROP_INVOKE_ASYNC:
+          s.invoke_async = g_value_get_boolean(value);
+          break;
+        case PROP_SUSPEND:
+          s.suspend_ms = g_value_get_uint(value);
+          break;
+        default:
+          G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+          return;
+      }
+    }
+  }
+  if (id == PROP_LATENCY || id == PROP_THROUGHPUT || id == PROP_LATENCY_REPORT)
+    update_profiling(self);
+  if (reload) reload_model(self, new_model);
+  if (!config_path.empty()) {
+    // Applied now, as NNStreamer does; problems are posted when the element starts.
+    auto problems = nns::gst::apply_config_file(object, config_path);
+    std::lock_guard lk(p->settings_mu);
+    p->config_problems = std::move(problems);
+  }
+}
+
+static void set_info_string(GValue *value, const nns::TensorsInfo &info, const std::string &user,
+                            int what) {
+  if (info.size() == 0) {
+    g_value_set_string(value, user.c_str());
+    return;
+  }
+  std::string s = what == 0   ? info.dims_string()
+                  : what == 1 ? info.types_string()
+                              : info.names_string();
+  g_value_set_string(value, s.c_str());
+}
+
+static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *value,
+                                           GParamSpec *pspec) {
+  auto *self = GST_TENSOR_FILTER(object);
+  FilterPriv *p = self->priv;
+  FilterSettings s;
+  {
+    std::lock_guard lk(p->settings_mu);
+    s = p->settings;
+  }
+  nns::TensorsInfo in, out;
+  {
+    std::lock_guard lk(p->info_mu);
+    in = p->in_info;
+    out = p->out_info;
+  }
+  switch (id) {
+    case PROP_SILENT:
+      g_value_set_boolean(value, s.silent);
+      break;
+    case PROP_INPUT:
+      set_info_string(value, in, s.input, 0);
+      break;
+    case PROP_INPUTTYPE:
+      set_info_string(value, in, s.inputtype, 1);
+      break;
+    case PROP_INPUTNAME:
+      set_info_string(value, in, s.inputname, 2);
+      break;
+    case PROP_OUTPUT:
+      set_info_string(value, out, s.output, 0);
+      break;
+    case PROP_OUTPUTTYPE:
+      set_info_string(value, out, s.outputtype, 1);
+      break;
+    case PROP_OUTPUTNAME:
+      set_info_string(value, out, s.outputname, 2);
+      break;
+    case PROP_INPUTLAYOUT:
+    case PROP_OUTPUTLAYOUT: {
+      bool is_in = id == PROP_INPUTLAYOUT;
+      const std::string &user = is_in ? s.inputlayout : s.outputlayout;
+      std::size_t n = (is_in ? in : out).size();
+      g_value_set_string(
+          value,
+          n ? nns::gst::layouts_string(nns::gst::parse_layouts(user), n).c_str() : user.c_str());
+      break;
+    }
+    case PROP_INPUTRANKS:
+    case PROP_OUTPUTRANKS: {
+      nns::TensorsInfo info = id == PROP_INPUTRANKS ? in : out;
+      if (info.size() == 0) {
+        try {
+          info = id == PROP_INPUTRANKS
+                     ? nns::gst::parse_tensor_props(s.input, s.inputtype, "", "input")
+                     : nns::gst::parse_tensor_props(s.output, s.outputtype, "", "output");
+        } catch (const nns::Error &) {
+          info = nns::TensorsInfo{};
+        }
+      }
+      g_value_set_string(value, nns::gst::ranks_string(info).c_str());
+      break;
+    }
+    case PROP_SUBPLUGINS: {
+      std::string list;
+      try {
+        auto conf = nns::current_filter_conf();
+        for (auto &n : nns::FilterRegistry::get().available(*conf))
+          list += (list.empty() ? "" : ",") + n;
+      } catch (const std::exception &) {
+      }
+      g_value_set_string(value, list.c_str());
+      break;
+    }
+    case PROP_IS_UPDATABLE:
+      g_value_set_boolean(value, s.is_updatable);
+      break;
+    case PROP_LATENCY:
+      g_value_set_int(value, s.latency_mode > 0 ? p->engine.stats().latency_us() : -1);
+      break;
+    case PROP_THROUGHPUT:
+      g_value_set_int(value, s.throughput_mode > 0 ? p->engine.stats().throughput() : -1);
+      break;
+    case PROP_LATENCY_REPORT:
+      g_value_set_boolean(value, s.latency_report);
+      break;
+    case PROP_INVOKE_DYNAMIC:
+      g_value_set_boolean(value, s.invoke_dynamic);
+      break;
+    case PROP_INVOKE_ASYNC:
+      g_value_set_boolean(value, s.invoke_async);
+      break;
+    case PROP_SUSPEND:
+      g_value_set_uint(value, s.suspend_ms);
+      break;
+    default:
+      if (std::string *str = string_prop(s, id)) {
+        g_value_set_string(value, str->c_str());
+        break;
+      }
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static void update_info_snapshot(GstTensorFilter *self) {
+  FilterPriv *p = self->priv;
+  nns::TensorsInfo in = p->engine.current_input(), out = p->engine.current_output();
+  std::lock_guard lk(p->info_mu);
+  p->in_info = std::move(in);
+  p->out_info = std::move(out);
+}
+
+static void stop_suspend_thread(FilterPriv *p) {
+  if (!p->suspend_thread.joinable()) return;
+  {
+    std::lock_guard lk(p->suspend_mu);
+    p->suspend_stop = true;
+  }
+  p->suspend_cv.notify_all();
+  p->suspend_thread.join();
+}
+
+// suspend=N: after N ms without data the model is suspended (NNS_FILTER_EVENT_SUSPEND or
+// closed); the next buffer resumes it.
+static void start_suspend_thread(GstTensorFilter *self, uint32_t ms) {
+  FilterPriv *p = self->priv;
+  auto inst = p->engine.instance();
+  p->suspend_stop = false;
+  inst->track_use();  // idle time is the instance's: shared instances count every user
+  auto period = std::chrono::milliseconds(std::max<uint32_t>(1, std::min<uint32_t>(ms / 4, 100)));
+  p->suspend_thread = std::thread([self, p, inst, ms, period] {
+    std::unique_lock lk(p->suspend_mu);
+    while (!p->suspend_cv.wait_for(lk, period, [p] { return p->suspend_stop; })) {
+      if (inst->idle_us() < static_cast<int64_t>(ms) * 1000 || inst->suspended()) continue;
+      GST_INFO_OBJECT(self, "idle for %u ms: suspending %s", ms, inst->describe().c_str());
+      inst->suspend();
+    }
+  });
+}
+
+static gboolean gst_tensor_filter_start(GstBaseTransform *trans) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  FilterPriv *p = self->priv;
+  return nns::gst::guard(self, FALSE, [&]() -> gboolean {
+    FilterSettings s;
+    {
+      std::lock_guard lk(p->settings_mu);
+      if (!p->config_problems.empty()) {
+        std::string msg;
+        for (auto &x : p->config_problems) msg += (msg.empty() ? "" : "; ") + x;
+        nns::fail(nns::ErrorKind::kSettings, msg);
+      }
+      s = p->settings;
+    }
+    if (s.invoke_async)
+      GST_INFO_OBJECT(self,
+                      "invoke-async=true: back ends here are synchronous; one output "
+                      "per input");
+    p->last_caps_error.clear();
+    {
+      std::lock_guard lk(p->engine_mu);
+      p->engine.open(s);
+      p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
+    }
+    update_info_snapshot(self);
+    if (s.suspend_ms > 0) start_suspend_thread(self, s.suspend_ms);
+    return TRUE;
+  });
+}
+
+static gboolean gst_tensor_filter_stop(GstBaseTransform *trans) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  FilterPriv *p = self->priv;
+  stop_suspend_thread(p);
+  std::lock_guard lk(p->engine_mu);
+  p->engine.close();
+  return TRUE;
+}
+
+static GstCaps *gst_tensor_filter_transform_caps(GstBaseTransform *trans, GstPadDirection direction,
+                                                 GstCaps *caps, GstCaps *filter) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  GstCaps *result = nullptr;
+  {
+    std::lock_guard lk(self->priv->engine_mu);
+    result = self->priv->engine.transform_caps(direction, caps);
+  }
+  GstPad *pad = direction == GST_PAD_SINK ? GST_BASE_TRANSFORM_SRC_PAD(trans)
+                                          : GST_BASE_TRANSFORM_SINK_PAD(trans);
+  // The model's shapes come first (preferred); the template follows so that a peer fixed on
+  // other shapes still links and set_caps() reports both shapes instead of a bare
+  // not-negotiated.
+  if (result)
+    gst_caps_append(result, gst_pad_get_pad_template_caps(pad));
+  else
+    result = gst_pad_get_pad_template_caps(pad);
+  if (filter && !gst_caps_is_empty(filter)) {
+    GstCaps *x = gst_caps_intersect_full(result, filter, GST_CAPS_INTERSECT_FIRST);
+    gst_caps_unref(result);
+    result = x;
+  }
+  return result;
+}
+
+static gboolean gst_tensor_filter_set_caps(GstBaseTransform *trans, GstCaps *incaps,
+                                           GstCaps *outcaps) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  FilterPriv *p = self->priv;
+  std::string error;
+  nns::ErrorKind kind = nns::ErrorKind::kNegotiation;
+  try {
+    std::lock_guard lk(p->engine_mu);
+    p->engine.configure(incaps, outcaps);
+  } catch (const nns::Error &e) {
+    error = e.what();
+    kind = e.kind();
+  } catch (const std::exception &e) {
+    error = std::string("internal error: ") + e.what();
+    kind = nns::ErrorKind::kInternal;
+  }
+  if (error.empty()) {
+    p->last_caps_error.clear();
+    update_info_snapshot(self);
+    return TRUE;
+  }
+  // GstBaseTransform retries the same caps several times; post each distinct problem once.
+  if (error != p->last_caps_error) NNS_POST_ERROR(self, kind, error);
+  p->last_caps_error = error;
+  return FALSE;
+}
+
+static GstFlowReturn gst_tensor_filter_prepare_output_buffer(GstBaseTransform *trans,
+                                                             GstBuffer *inbuf, GstBuffer **outbuf) {
+  (void)trans;
+  *outbuf = gst_buffer_new();
+  gst_buffer_copy_into(
+      *outbuf, inbuf,
+      static_cast<GstBufferCopyFlags>(GST_BUFFER_COPY_FLAGS | GST_BUFFER_COPY_TIMESTAMPS |
+                                      GST_BUFFER_COPY_META),
+      0, static_cast<gsize>(-1));
+  return GST_FLOW_OK;
+}
+
+static GstFlowReturn gst_tensor_filter_transform(GstBaseTransform *trans, GstBuffer *inbuf,
+                                                 GstBuffer *outbuf) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  if (self->priv->engine.throttled(inbuf)) return GST_BASE_TRANSFORM_FLOW_DROPPED;
+  return nns::gst::guard(self, GST_FLOW_ERROR, [&] {
+    std::lock_guard lk(self->priv->engine_mu);
+    return self->priv->engine.process(inbuf, outbuf);
+  });
+}
+
+static gboolean gst_tensor_filter_query(GstBaseTransform *trans, GstPadDirection direction,
+                                        GstQuery *query) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  FilterPriv *p = self->priv;
+  if (GST_QUERY_TYPE(query) == GST_QUERY_LATENCY) {
+    bool report;
+    {
+      std::lock_guard lk(p->settings_mu);
+      report = p->settings.latency_report;
+    }
+    int estimated = p->engine.stats().latency_us();
+    if (report && estimated > 0 && gst_pad_peer_query(GST_BASE_TRANSFORM_SINK_PAD(trans), query)) {
+      gboolean live;
+      GstClockTime min, max;
+      gst_query_parse_latency(query, &live, &min, &max);
+      auto add = static_cast<GstClockTime>(estimated * GST_USECOND * 1.05);
+      p->engine.reported_ns() = static_cast<int64_t>(add);
+      min += add;
+      if (GST_CLOCK_TIME_IS_VALID(max)) max += add;
+      GST_DEBUG_OBJECT(self, "latency query: adding %" GST_TIME_FORMAT, GST_TIME_ARGS(add));
+      gst_query_set_latency(query, live, min, max);
+      return TRUE;
+    }
+  }
+  return GST_BASE_TRANSFORM_CLASS(gst_tensor_filter_parent_class)->query(trans, direction, query);
+}
+
+static gboolean gst_tensor_filter_sink_event(GstBaseTransform *trans, GstEvent *event) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  if (GST_EVENT_TYPE(event) == GST_EVENT_CUSTOM_DOWNSTREAM) {
+    const GstStructure *st = gst_event_get_structure(event);
+    if (st && gst_structure_has_name(st, kUpdateModelEvent)) {
+      bool updatable;
+      {
+        std::lock_guard lk(self->priv->settings_mu);
+        updatable = self->priv->settings.is_updatable;
+      }
+      const GValue *v = gst_structure_get_value(st, "model_files");
+      gboolean ok = updatable && v && G_VALUE_HOLDS_STRING(v);
+      if (ok) g_object_set(self, "model", g_value_get_string(v), nullptr);
+      gst_event_unref(event);
+      return ok;
+    }
+  }
+  return GST_BASE_TRANSFORM_CLASS(gst_tensor_filter_parent_class)->sink_event(trans, event);
+}
+
+static gboolean gst_tensor_filter_src_event(GstBaseTransform *trans, GstEvent *event) {
+  auto *self = GST_TENSOR_FILTER(trans);
+  if (GST_EVENT_TYPE(event) == GST_EVENT_QOS) {
+    GstQOSType type;
+    GstClockTimeDiff diff;
+    gst_event_parse_qos(event, &type, nullptr, &diff, nullptr);
+    if (type == GST_QOS_TYPE_THROTTLE && diff > 0) {
+      self->priv->engine.set_throttling_delay(diff);
+      gst_event_unref(event);
+      g_object_set(self, "latency", 1, nullptr);  // the drop decision uses the latency
+      return TRUE;
+    }
+  }
+  return GST_BASE_TRANSFORM_CLASS(gst_tensor_filter_parent_class)->src_event(trans, event);
+}
+
+static void gst_tensor_filter_finalize(GObject *object) {
+  auto *self = GST_TENSOR_FILTER(object);
+  stop_suspend_thread(self->priv);
+  delete self->priv;
+  G_OBJECT_CLASS(gst_tensor_filter_parent_class)->finalize(object);
+}
+
+static void install_string(GObjectClass *k, guint id, const char *name, const char *def,
+                           const char *blurb, bool writable = true) {
+  auto flags = static_cast<GParamFlags>((writable ? G_PARAM_READWRITE : G_PARAM_READABLE) |
+                                        G_PARAM_STATIC_STRINGS);
+  g_object_class_install_property(k, id, g_param_spec_string(name, name, blurb, def, flags));
+}
+
+static void install_bool(GObjectClass *k, guint id, const char *name, gboolean def,
+                         const char *blurb, bool mutable_playing = false) {
+  auto flags = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+                                        (mutable_playing ? GST_PARAM_MUTABLE_PLAYING : 0));
+  g_object_class_install_property(k, id, g_param_spec_boolean(name, name, blurb, def, flags));
+}
+
+static void gst_tensor_filter_class_init(GstTensorFilterClass *klass) {
+  GST_DEBUG_CATEGORY_INIT(tensor_filter_debug, "tensor_filter", 0, "tensor_filter element");
+  auto *k = G_OBJECT_CLASS(klass);
+  auto *element_class = GST_ELEMENT_CLASS(klass);
+  auto *trans_class = GST_BASE_TRANSFORM_CLASS(klass);
+  k->set_property = gst_tensor_filter_set_property;
+  k->get_property = gst_tensor_filter_get_property;
+  k->finalize = gst_tensor_filter_finalize;
+
+  install_bool(k, PROP_SILENT, "silent", TRUE, "Produce verbose output", true);
+  install_string(k, PROP_FRAMEWORK, "framework", "auto",
+                 "Neural network framework (filter back end); 'auto' detects it from the "
+                 "model file extension");
+  g_object_class_install_property(
+      k, PROP_MODEL,
+      g_param_spec_string("model", "model",
+                          "Model file path(s), separated with ',' when the framework needs "
+                          "several files",
+                          "",
+                          static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+                                                   GST_PARAM_MUTABLE_PLAYING)));
+  install_string(k, PROP_INPUT, "input", "",
+                 "Input tensor dimensions from the innermost axis, tensors separated with ','");
+  install_string(k, PROP_INPUTTYPE, "inputtype", "", "Element type of each input tensor");
+  install_string(k, PROP_INPUTNAME, "inputname", "", "Name of each input tensor");
+  install_string(k, PROP_INPUTLAYOUT, "inputlayout", "",
+                 "Layout of each input tensor: NHWC, NCHW, ANY or NONE");
+  install_string(k, PROP_INPUTRANKS, "inputranks", "", "Rank of each input tensor", false);
+  install_string(k, PROP_OUTPUT, "output", "",
+                 "Output tensor dimensions from the innermost axis, tensors separated with ','");
+  install_string(k, PROP_OUTPUTTYPE, "outputtype", "", "Element type of each output tensor");
+  install_string(k, PROP_OUTPUTNAME, "outputname", "", "Name of each output tensor");
+  install_string(k, PROP_OUTPUTLAYOUT, "outputlayout", "",
+                 "Layout of each output tensor: NHWC, NCHW, ANY or NONE");
+  install_string(k, PROP_OUTPUTRANKS, "outputranks", "", "Rank of each output tensor", false);
+  install_string(k, PROP_CUSTOM, "custom", "",
+                 "Options for the framework, key:value pairs separated with ','");
+  install_string(k, PROP_SUBPLUGINS, "sub-plugins", "", "Available filter back ends", false);
+  install_string(k, PROP_ACCELERATOR, "accelerator", "",
+                 "Accelerators, (true|false):ACCL[,ACCL...], e.g. true:npu,gpu,!cpu");
+  install_bool(k, PROP_IS_UPDATABLE, "is-updatable", FALSE,
+               "Allow loading another model (model property) while running");
+  g_object_class_install_property(
+      k, PROP_LATENCY,
+      g_param_spec_int("latency", "latency",
+                       "1: measure the average invoke latency of the last 10 frames (us), read "
+                       "back from this property (-1 when off)",
+                       0, 1, 0,
+                       static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+                                                GST_PARAM_MUTABLE_PLAYING)));
+  g_object_class_install_property(
+      k, PROP_THROUGHPUT,
+      g_param_spec_int("throughput", "throughput",
+                       "1: measure the invoke throughput, outputs per second x 1000, read back "
+                       "from this property (-1 when off)",
+                       0, 1, 0,
+                       static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
+                                                GST_PARAM_MUTABLE_PLAYING)));
+  install_string(k, PROP_INPUTCOMBINATION, "input-combination", "",
+                 "Input tensors given to the model, e.g. 0,2");
+  install_string(k, PROP_OUTPUTCOMBINATION, "output-combination", "",
+                 "Tensors of the output frame: i<N> input tensors and o<N> model outputs, "
+                 "e.g. i0,o0,o2");
+  install_string(k, PROP_SHARED_KEY, "shared-tensor-filter-key", nullptr,
+                 "Filters with the same key, framework and model share one model instance");
+  install_bool(k, PROP_LATENCY_REPORT, "latency-report", FALSE,
+               "Add the measured invoke latency to LATENCY queries and post latency messages",
+               true);
+  install_bool(k, PROP_INVOKE_DYNAMIC, "invoke-dynamic", FALSE,
+               "Flexible tensors whose shapes change per frame; the output is always flexible");
+  install_bool(k, PROP_INVOKE_ASYNC, "invoke-async", FALSE,
+               "Accepted for compatibility; back ends here produce one output per input");
+  install_string(k, PROP_CONFIG_FILE, "config-file", "",
+                 "File of property=value lines applied to this element");
+  g_object_class_install_property(
+      k, PROP_SUSPEND,
+      g_param_spec_uint("suspend", "suspend",
+                        "Suspend (unload) the model after this many ms without data; 0: never", 0,
+                        G_MAXUINT, 0,
+                        static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS)));
+
+  gst_element_class_set_static_metadata(
+      element_class, "TensorFilter", "Filter/Tensor",
+      "Handles NN Frameworks (e.g., tensorflow) as Media Filters with other/tensor type stream",
+      "nnstreamer-cpp");
+  gst_element_class_add_static_pad_template(element_class, &sink_template);
+  gst_element_class_add_static_pad_template(element_class, &src_template);
+
+  trans_class->passthrough_on_same_caps = FALSE;
+  trans_class->start = gst_tensor_filter_start;
+  trans_class->stop = gst_tensor_filter_stop;
+  trans_class->transform_caps = gst_tensor_filter_transform_caps;
+  trans_class->set_caps = gst_tensor_filter_set_caps;
+  trans_class->prepare_output_buffer = gst_tensor_filter_prepare_output_buffer;
+  trans_class->transform = gst_tensor_filter_transform;
+  trans_class->query = gst_tensor_filter_query;
+  trans_class->sink_event = gst_tensor_filter_sink_event;
+  trans_class->src_event = gst_tensor_filter_src_event;
+}
+
+static void gst_tensor_filter_init(GstTensorFilter *self) {
+  self->priv = new FilterPriv(GST_BASE_TRANSFORM(self));
+  gst_base_transform_set_in_place(GST_BASE_TRANSFORM(self), FALSE);
+}

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// tensor_crop: static and flexible raw input, crop info of several types, clipping (warning),
+// regions outside the frame (bus error), lateness, output layout (flexible headers).
+#include <gtest/gtest.h>
+
+#include "core/meta_header.h"
+#include "elements/flow_harness.h"
+
+namespace {
+
+using nns::test::AppPipeline;
+using nns::test::Bytes;
+using nns::test::Frame;
+using nns::test::static_caps;
+
+const char *kFlex = "other/tensors,format=flexible,framerate=(fraction)30/1";
+
+// 3-channel uint8 frame of width 6, height 4: value = 10*y + x + 100*c (as uint8).
+Bytes raw_frame() {
+  Bytes b(3 * 6 * 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x)
+      for (int c = 0; c < 3; ++c)
+        b[(y * 6 + x) * 3 + c] = static_cast<uint8_t>(10 * y + x + 100 * c);
+  return b;
+}
+
+Bytes expected_crop(int x0, int y0, int w, int h) {
+  Bytes full = raw_frame(), out;
+  for (int y = y0; y < y0 + h; ++y)
+    for (int x = x0; x < x0 + w; ++x)
+      for (int c = 0; c < 3; ++c) out.push_back(full[(y * 6 + x) * 3 + c]);
+  return out;
+}
+
+Bytes with_header(nns::TensorType type, std::initializer_list<uint32_t> dims, const Bytes &p) {
+  nns::MetaHeader h;
+  h.type = type;
+  h.dims = nns::make_dims(dims);
+  h.format = nns::TensorFormat::kFlexible;
+  Bytes b(nns::kMetaHeaderSize + p.size());
+  nns::write_meta_header(h, b.data());
+  std::copy(p.begin(), p.end(), b.begin() + nns::kMetaHeaderSize);
+  return b;
+}
+
+template <typename T>
+Bytes info_of(const std::vector<T> &regions) {
+  return with_header(sizeof(T) == 4 ? nns::TensorType::kUInt32 : nns::TensorType::kUInt16,
+                     {4, static_cast<uint32_t>(regions.size() / 4)}, nns::test::bytes_of(regions));
+}
+
+struct CropRun {
+  nns::test::RunResult r;
+  std::vector<Frame> out;
+};
+
+CropRun run_crop(const std::string &raw_caps, const std::vector<Frame> &raw,
+                 const std::vector<Frame> &info, const std::string &props = "") {
+  AppPipeline p("appsrc name=raw ! crop.raw appsrc name=info ! crop.info tensor_crop name=crop " +
+                props + " ! appsink name=out");
+  p.set_caps("raw", raw_caps);
+  p.set_caps("info", kFlex);
+  for (const auto &f : raw) p.push("raw", f);
+  for (const auto &f : info) p.push("info", f);
+  p.eos("raw");
+  p.eos("info");
+  CropRun c;
+  c.r = p.run(10);
+  c.out = p.frames("out");
+  return c;
+}
+
+void expect_region(const Bytes &mem, int x, int y, int w, int h) {
+  ASSERT_GE(mem.size(), nns::kMetaHeaderSize);
+  auto hd = nns::parse_meta_header(mem.data(), mem.size());
+  EXPECT_EQ(hd.format, nns::TensorFormat::kFlexible);
+  EXPECT_EQ(hd.type, nns::TensorType::kUInt8);
+  EXPECT_EQ(nns::dims_to_string(hd.dims),
+            "3:" + std::to_string(w) + ":" + std::to_string(h) + ":1");
+  EXPECT_EQ(Bytes(mem.begin() + nns::kMetaHeaderSize, mem.end()), expected_crop(x, y, w, h));
+}
+
+TEST(TensorCrop, StaticRawUint32Regions) {
+  auto c = run_crop(static_caps("3:6:4:1", "uint8", "30/1"),
+                    {Frame({raw_frame()}, 0), Frame({raw_frame()}, 33 * GST_MSECOND)},
+                    {Frame({info_of<uint32_t>({1, 1, 2, 2, 0, 0, 6, 4})}, 0),
+                     Frame({info_of<uint32_t>({4, 2, 2, 1})}, 33 * GST_MSECOND)});
+  ASSERT_TRUE(c.r.eos) << c.r.error_text;
+  ASSERT_EQ(c.out.size(), 2u);
+  ASSERT_EQ(c.out[0].mems.size(), 2u);
+  expect_region(c.out[0].mems[0], 1, 1, 2, 2);
+  expect_region(c.out[0].mems[1], 0, 0, 6, 4);
+  ASSERT_EQ(c.out[1].mems.size(), 1u);
+  expect_region(c.out[1].mems[0], 4, 2, 2, 1);
+  EXPECT_EQ(c.out[1].pts, 33 * GST_MSECOND);
+  EXPECT_NE(c.out[0].caps.find("format=(string)flexible"), std::string::npos) << c.out[0].caps;
+  EXPECT_NE(c.out[0].caps.find("framerate=(fraction)30/1"), std::string::npos) << c.out[0].caps;
+}
+
+TEST(TensorCrop, FlexibleRawUint16RegionsAndZeroSizeMeansToTheEdge) {
+  auto c =
+      run_crop(kFlex, {Frame({with_header(nns::TensorType::kUInt8, {3, 6, 4, 1}, raw_frame())}, 0)},
+               {Frame({info_of<uint16_t>({2, 1, 0, 0})}, 0)});
+  ASSERT_TRUE(c.r.eos) << c.r.error_text;
+  ASSERT_EQ(c.out.size(), 1u);
+  expect_region(c.out[0].mems[0], 2, 1, 4, 3);
+}
+
+TEST(TensorCrop, RegionPastTheEdgeIsClipped) {
+  auto c = run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)},
+                    {Frame({info_of<uint32_t>({4, 3, 5, 5})}, 0)});
+  ASSERT_TRUE(c.r.eos) << c.r.error_text;
+  ASSERT_EQ(c.out.size(), 1u);
+  expect_region(c.out[0].mems[0], 4, 3, 2, 1);
+}
+
+TEST(TensorCrop, RegionOutsideTheFrameIsABusError) {
+  auto c = run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)},
+                    {Frame({info_of<uint32_t>({0, 0, 1, 1, 6, 0, 2, 2})}, 0)});
+  ASSERT_TRUE(c.r.error);
+  EXPECT_NE(
+      c.r.error_text.find("crop: crop region 1 (x=6, y=0, w=2, h=2) starts outside the 6x4 frame"),
+      std::string::npos)
+      << c.r.error_text;
+}
+
+TEST(TensorCrop, MalformedInfoAndRawAreBusErrors) {
+  Bytes bad_info = with_header(nns::TensorType::kUInt32, {3}, Bytes(12, 0));
+  auto c =
+      run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)}, {Frame({bad_info}, 0)});
+  ASSERT_TRUE(c.r.error);
+  EXPECT_NE(c.r.error_text.find("crop info has 12 bytes of uint32, not a whole number"),
+            std::string::npos)
+      << c.r.error_text;
+  c = run_crop(static_caps("3:6:4:1", "uint8"), {Frame({raw_frame()}, 0)},
+               {Frame({Bytes(16, 1)}, 0)});
+  ASSERT_TRUE(c.r.error);
+  EXPECT_NE(c.r.error_text.find("info pad: flexible tensor memory of 16 bytes"), std::string::npos)
+      << c.r.error_text;
+  c = run_crop(static_caps("3:6:4:2", "uint8"), {Frame({raw_frame()}, 0)},
+               {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 0)});
+  ASSERT_TRUE(c.r.error);
+}
+
+TEST(TensorCrop, LatenessDropsTheOlderBuffer) {
+  // raw at 0, 100 ms; info at 100 ms only: with lateness 20 ms raw@0 is dropped.
+  auto c = run_crop(static_caps("3:6:4:1", "uint8"),
+                    {Frame({raw_frame()}, 0), Frame({raw_frame()}, 100 * GST_MSECOND)},
+                    {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 100 * GST_MSECOND)}, "lateness=20");
+  ASSERT_TRUE(c.r.eos) << c.r.error_text;
+  ASSERT_EQ(c.out.size(), 1u);
+  EXPECT_EQ(c.out[0].pts, 100 * GST_MSECOND);
+  // lateness off: the first pair is cropped whatever the timestamps
+  c = run_crop(static_caps("3:6:4:1", "uint8"),
+               {Frame({raw_frame()}, 0), Frame({raw_frame()}, 100 * GST_MSECOND)},
+               {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 100 * GST_MSECOND)});
+  ASSERT_TRUE(c.r.eos) << c.r.error_text;
+  ASSERT_EQ(c.out.size(), 1u);
+  EXPECT_EQ(c.out[0].pts, 0u);
+}
+
+TEST(TensorCrop, PadsAndPropertiesAsUpstream) {
+  GstElement *e = gst_element_factory_make("tensor_crop", nullptr);
+  ASSERT_NE(e, nullptr);
+  gint lateness = 0;
+  g_object_get(e, "lateness", &lateness, nullptr);
+  EXPECT_EQ(lateness, -1);
+  for (const char *pad : {"raw", "info", "src"}) {
+    GstPad *p = gst_element_get_static_pad(e, pad);
+    EXPECT_NE(p, nullptr) << pad;
+    if (p) gst_object_unref(p);
+  }
+  gst_object_unref(e);
+}
+
+}  // namespace

@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// tensor_rate: down/up conversion (frames, timestamps, counters, GAP flags), passthrough,
+// throttle QoS events upstream (type, diff, count), properties and bus errors.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <mutex>
+
+#include "elements/flow_harness.h"
+#include "tensor_filter_custom_easy.h"
+
+namespace {
+
+using nns::test::AppPipeline;
+using nns::test::Bytes;
+using nns::test::Frame;
+using nns::test::static_caps;
+
+struct Qos {
+  GstQOSType type;
+  double proportion;
+  GstClockTimeDiff diff;
+  GstClockTime ts;
+};
+
+struct RateRun {
+  nns::test::RunResult r;
+  std::vector<Frame> out;
+  guint64 in = 0, outc = 0, dup = 0, drop = 0;
+  std::vector<Qos> qos;
+};
+
+GstPadProbeReturn catch_qos(GstPad *, GstPadProbeInfo *info, gpointer user) {
+  GstEvent *ev = GST_PAD_PROBE_INFO_EVENT(info);
+  if (GST_EVENT_TYPE(ev) == GST_EVENT_QOS) {
+    Qos q;
+    gst_event_parse_qos(ev, &q.type, &q.proportion, &q.diff, &q.ts);
+    static std::mutex m;
+    std::lock_guard<std::mutex> l(m);
+    static_cast<std::vector<Qos> *>(user)->push_back(q);
+  }
+  return GST_PAD_PROBE_OK;
+}
+
+// `n` frames at `fps` (frame i holds byte i) through tensor_rate `props`.
+RateRun run_rate(int n, int fps, const std::string &props) {
+  AppPipeline p("appsrc name=src ! tensor_rate name=rate " + props + " ! appsink name=out");
+  RateRun rr;
+  p.set_caps("src", static_caps("2", "uint8", std::to_string(fps) + "/1"));
+  GstElement *src = p.get("src");
+  GstPad *pad = gst_element_get_static_pad(src, "src");
+  gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_EVENT_UPSTREAM, catch_qos, &rr.qos, nullptr);
+  for (int i = 0; i < n; ++i)
+    p.push("src",
+           Frame({Bytes{static_cast<uint8_t>(i), 7}}, gst_util_uint64_scale(i, GST_SECOND, fps),
+                 gst_util_uint64_scale(1, GST_SECOND, fps)));
+  p.eos("src");
+  rr.r = p.run(10);
+  rr.out = p.frames("out");
+  GstElement *rate = p.get("rate");
+  g_object_get(rate, "in", &rr.in, "out", &rr.outc, "duplicate", &rr.dup, "drop", &rr.drop,
+               nullptr);
+  gst_object_unref(rate);
+  gst_object_unref(pad);
+  gst_object_unref(src);
+  return rr;
+}
+
+TEST(TensorRate, DownConvert30To10) {
+  auto rr = run_rate(30, 30, "framerate=10/1");
+  ASSERT_TRUE(rr.r.eos) << rr.r.error_text;
+  ASSERT_EQ(rr.out.size(), 11u);
+  for (std::size_t k = 0; k < rr.out.size(); ++k) {
+    EXPECT_EQ(rr.out[k].pts, k * 100 * GST_MSECOND) << k;
+    EXPECT_EQ(rr.out[k].duration, 100 * GST_MSECOND) << k;
+    EXPECT_EQ(rr.out[k].mems[0][0], k < 10 ? 3 * k : 29) << k;
+    EXPECT_FALSE(rr.out[k].gap);
+  }
+  EXPECT_NE(rr.out[0].caps.find("framerate=(fraction)10/1"), std::string::npos) << rr.out[0].caps;
+  EXPECT_EQ(rr.in, 30u);
+  EXPECT_EQ(rr.outc, 11u);
+  EXPECT_EQ(rr.drop, 19u);
+  EXPECT_EQ(rr.dup, 0u);
+  // one THROTTLE QoS per dropped frame, diff = 0.999 x 100 ms
+  ASSERT_EQ(rr.qos.size(), 19u);
+  for (const auto &q : rr.qos) {
+    EXPECT_EQ(q.type, GST_QOS_TYPE_THROTTLE);
+    EXPECT_EQ(q.diff, GstClockTimeDiff(99900000));
+    EXPECT_TRUE(GST_CLOCK_TIME_IS_VALID(q.ts));
+  }
+}
+
+TEST(TensorRate, UpConvert10To30MarksDuplicates) {
+  auto rr = run_rate(10, 10, "framerate=30/1");
+  ASSERT_TRUE(rr.r.eos) << rr.r.error_text;
+  ASSERT_EQ(rr.out.size(), 27u);
+  EXPECT_EQ(rr.dup, 17u);
+  EXPECT_EQ(rr.drop, 0u);
+  EXPECT_EQ(rr.in, 10u);
+  EXPECT_EQ(rr.outc, 27u);
+  int gaps = 0;
+  for (std::size_t k = 0; k < rr.out.size(); ++k) {
+    EXPECT_EQ(rr.out[k].pts, gst_util_uint64_scale(k, GST_SECOND, 30)) << k;
+    gaps += rr.out[k].gap;
+  }
+  EXPECT_EQ(gaps, 17);
+  EXPECT_EQ(rr.out[0].mems[0][0], 0);
+  EXPECT_EQ(rr.out[1].mems[0][0], 0);
+  EXPECT_TRUE(rr.out[1].gap);
+  EXPECT_EQ(rr.out[2].mems[0][0], 1);
+  EXPECT_TRUE(rr.qos.empty());  // nothing dropped
+}
+
+TEST(TensorRate, WithoutFramerateItPassesThroughAndThrottlesOnce) {
+  auto rr = run_rate(12, 15, "");
+  ASSERT_TRUE(rr.r.eos) << rr.r.error_text;
+  ASSERT_EQ(rr.out.size(), 12u);
+  for (int i = 0; i < 12; ++i) EXPECT_EQ(rr.out[i].mems[0][0], i);
+  EXPECT_EQ(rr.in, 12u);
+  EXPECT_EQ(rr.outc, 12u);
+  ASSERT_EQ(rr.qos.size(), 1u);
+  EXPECT_EQ(rr.qos[0].diff, GstClockTimeDiff(gst_util_uint64_scale(1, GST_SECOND, 15) * 0.999));
+}
+
+TEST(TensorRate, ThrottleFalseSendsNoQos) {
+  auto rr = run_rate(30, 30, "framerate=10/1 throttle=false");
+  ASSERT_TRUE(rr.r.eos) << rr.r.error_text;
+  EXPECT_EQ(rr.out.size(), 11u);
+  EXPECT_TRUE(rr.qos.empty());
+}
+
+TEST(TensorRate, VideoPipeline) {
+  AppPipeline p(
+      "videotestsrc num-buffers=30 ! video/x-raw,format=GRAY8,width=4,height=4,framerate=30/1 "
+      "! tensor_converter ! tensor_rate framerate=5/1 ! appsink name=out");
+  auto r = p.run(10);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  EXPECT_EQ(p.frames("out").size(), 6u);
+}
+
+TEST(TensorRate, BadFramerateAndVariableInputAreBusErrors) {
+  auto r = nns::test::run_pipeline(
+      "videotestsrc num-buffers=3 ! video/x-raw,format=GRAY8,width=4,height=4 ! "
+      "tensor_converter ! tensor_rate name=rate framerate=ten ! fakesink",
+      10);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("rate: framerate must be N/D"), std::string::npos) << r.error_text;
+  AppPipeline p("appsrc name=src ! tensor_rate name=rate framerate=10/1 ! appsink name=out");
+  p.set_caps("src", static_caps("2", "uint8", "0/1"));
+  p.push("src", Frame({Bytes{1, 2}}, 0));
+  p.eos("src");
+  r = p.run(10);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("needs an input with a known rate"), std::string::npos)
+      << r.error_text;
+}
+
+std::atomic<int> g_invocations{0};
+int count_copy(void *, const GstTensorFilterProperties *, const GstTensorMemory *in,
+               GstTensorMemory *out) {
+  ++g_invocations;
+  std::memcpy(out[0].data, in[0].data, in[0].size);
+  return 0;
+}
+
+// tensor_filter honours the THROTTLE QoS: with throttle=true it skips the frames tensor_rate
+// would drop (30 fps in, 10 fps out), with throttle=false it runs on every frame.
+TEST(TensorRate, ThrottleMakesAnUpstreamFilterSkipFrames) {
+  GstTensorsInfo info{};
+  info.num_tensors = 1;
+  info.info[0].type = _NNS_UINT8;
+  info.info[0].dimension[0] = 2;
+  info.format = _NNS_TENSOR_FORMAT_STATIC;
+  ASSERT_EQ(NNS_custom_easy_register("flow_rate_count", count_copy, nullptr, &info, &info), 0);
+  for (bool throttle : {true, false}) {
+    g_invocations = 0;
+    AppPipeline p(
+        "appsrc name=src ! tensor_filter framework=custom-easy model=flow_rate_count ! "
+        "tensor_rate framerate=10/1 throttle=" +
+        std::string(throttle ? "true" : "false") + " ! appsink name=out");
+    p.set_caps("src", static_caps("2", "uint8", "30/1"));
+    for (int i = 0; i < 30; ++i)
+      p.push("src",
+             Frame({Bytes{static_cast<uint8_t>(i), 0}}, gst_util_uint64_scale(i, GST_SECOND, 30),
+                   gst_util_uint64_scale(1, GST_SECOND, 30)));
+    p.eos("src");
+    auto r = p.run(10);
+    ASSERT_TRUE(r.eos) << r.error_text;
+    if (throttle) {
+      EXPECT_LE(g_invocations.load(), 14) << "filter was not throttled";
+      EXPECT_GE(g_invocations.load(), 9);
+      EXPECT_GE(p.frames("out").size(), 9u);
+    } else {
+      // (No output count here: tensor_filter currently announces downstream's 10/1 instead of
+      // its input's 30/1, which makes tensor_rate pass through.)
+      EXPECT_EQ(g_invocations.load(), 30);
+    }
+  }
+  EXPECT_EQ(NNS_custom_easy_unregister("flow_rate_count"), 0);
+}
+
+TEST(TensorRate, PropertiesAsUpstream) {
+  GstElement *e = gst_element_factory_make("tensor_rate", nullptr);
+  ASSERT_NE(e, nullptr);
+  gboolean throttle = FALSE, silent = FALSE;
+  gchar *fr = nullptr;
+  g_object_get(e, "throttle", &throttle, "silent", &silent, "framerate", &fr, nullptr);
+  EXPECT_TRUE(throttle);
+  EXPECT_TRUE(silent);
+  EXPECT_STREQ(fr, "");
+  g_free(fr);
+  g_object_set(e, "framerate", "10/1", nullptr);
+  g_object_get(e, "framerate", &fr, nullptr);
+  EXPECT_STREQ(fr, "10/1");
+  g_free(fr);
+  for (const char *ro : {"in", "out", "duplicate", "drop"}) {
+    GParamSpec *ps = g_object_class_find_property(G_OBJECT_GET_CLASS(e), ro);
+    ASSERT_NE(ps, nullptr) << ro;
+    EXPECT_EQ(ps->value_type, G_TYPE_UINT64);
+    EXPECT_FALSE(ps->flags & G_PARAM_WRITABLE) << ro;
+  }
+  gst_object_unref(e);
+}
+
+}  // namespace
