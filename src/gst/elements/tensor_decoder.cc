@@ -1,0 +1,488 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+/**
+ * SECTION:element-tensor_decoder
+ *
+ * Turns tensor frames into media (video, text, ...) with a decoder sub-plugin chosen by `mode`
+ * (libnnstreamer_decoder_<mode>.so, see docs/elements/tensor_decoder.md) configured by
+ * option1..option9, or with an application callback (mode=custom-code option1=<name>).
+ *
+ *   gst-launch-1.0 videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=64,height=48 !
+ *     tensor_converter ! tensor_decoder mode=direct_video ! videoconvert ! fakesink
+ */
+#include <gst/base/gstbasetransform.h>
+
+#include <array>
+#include <atomic>
+#include <cstring>
+#include <optional>
+#include <mutex>
+#include <string>
+
+#include "gst/c_tensor_info.h"
+#include "gst/config_file.h"
+#include "gst/decoder_registry.h"
+#include "gst/element_glue.h"
+#include "gst/tensor_buffer.h"
+#include "gst/tensor_caps.h"
+
+GST_DEBUG_CATEGORY_STATIC(tensor_decoder_debug);
+#define GST_CAT_DEFAULT tensor_decoder_debug
+
+G_BEGIN_DECLS
+#define GST_TYPE_TENSOR_DECODER (gst_tensor_decoder_get_type())
+G_DECLARE_FINAL_TYPE(GstTensorDecoder, gst_tensor_decoder, GST, TENSOR_DECODER, GstBaseTransform)
+G_END_DECLS
+
+namespace {
+
+constexpr int kNumOptions = 9;
+constexpr const char *kCustomMode = "custom-code";
+
+struct DecoderPriv {
+  // Settings
+  std::mutex lock;
+  std::string mode;
+  std::array<std::optional<std::string>, kNumOptions> options;
+  std::string config_file;
+  std::atomic<bool> silent{true};
+  std::vector<std::string> config_problems;
+  // State: the active decoder, created on first use after mode/options change.
+  const GstTensorDecoderDef *def = nullptr;
+  void *pdata = nullptr;
+  bool configured = false;
+  std::optional<nns::gst::CustomDecoder> custom;
+  nns::gst::CTensorsConfig in_config;
+  nns::TensorsConfig in_cfg;
+
+  void release() {
+    if (def && pdata) def->exit(&pdata);
+    def = nullptr;
+    pdata = nullptr;
+    custom.reset();
+    configured = false;
+  }
+};
+
+enum {
+  PROP_0,
+  PROP_SILENT,
+  PROP_MODE,
+  PROP_OPTION1,
+  PROP_OPTION9 = PROP_OPTION1 + kNumOptions - 1,
+  PROP_SUBPLUGINS,
+  PROP_CONFIG_FILE,
+};
+
+// Why a built-in decoder refused (see backends/decoder/common/decoder_common.h), or "".
+std::string decoder_reason(void *pdata) {
+  static constexpr char kMagic[8] = {'N', 'N', 'S', 'D', 'E', 'R', 'R', '\0'};
+  if (!pdata || std::memcmp(pdata, kMagic, sizeof kMagic) != 0) return {};
+  const char *msg = static_cast<const char *>(pdata) + sizeof kMagic;
+  return std::string(msg, strnlen(msg, 512));
+}
+
+std::string join(const std::vector<std::string> &v) {
+  std::string s;
+  for (const auto &x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+// Creates the decoder for the current mode and applies the options. Throws nns::Error with a
+// message naming the mode or option. Caller holds p->lock.
+void configure(DecoderPriv *p) {
+  if (p->configured) return;
+  if (!p->config_problems.empty())
+    throw nns::Error(nns::ErrorKind::kSettings, "config-file: " + join(p->config_problems));
+  if (p->mode.empty())
+    throw nns::Error(nns::ErrorKind::kSettings,
+                     "property 'mode' is not set; available modes: " +
+                         join(nns::gst::DecoderRegistry::instance().names()) + ", " + kCustomMode);
+  if (p->mode == kCustomMode) {
+    const auto &name = p->options[0];
+    if (!name || name->empty())
+      throw nns::Error(nns::ErrorKind::kSettings,
+                       "mode=custom-code needs option1=<name of a registered custom decoder>");
+    p->custom = nns::gst::DecoderRegistry::instance().find_custom(*name);
+    if (!p->custom)
+      throw nns::Error(nns::ErrorKind::kSettings, "mode=custom-code: no custom decoder '" + *name +
+                                                      "' is registered (option1)");
+    p->configured = true;
+    return;
+  }
+  auto &reg = nns::gst::DecoderRegistry::instance();
+  const GstTensorDecoderDef *def = reg.find(p->mode);
+  if (!def) {
+    std::string why = reg.load_error(p->mode);
+    throw nns::Error(nns::ErrorKind::kSettings,
+                     "unknown mode '" + p->mode + "'" + (why.empty() ? "" : " (" + why + ")") +
+                         "; available modes: " + join(reg.names()) + ", " + kCustomMode);
+  }
+  void *pdata = nullptr;
+  if (!def->init(&pdata))
+    throw nns::Error(nns::ErrorKind::kSettings, "mode '" + p->mode + "': decoder init failed");
+  for (int i = 0; i < kNumOptions; ++i) {
+    if (!p->options[i]) continue;
+    if (!def->setOption(&pdata, i, p->options[i]->c_str())) {
+      std::string why = decoder_reason(pdata);
+      def->exit(&pdata);
+      throw nns::Error(nns::ErrorKind::kSettings,
+                       "mode '" + p->mode + "' rejected option" + std::to_string(i + 1) + "='" +
+                           *p->options[i] + "'" + (why.empty() ? "" : ": " + why));
+    }
+  }
+  p->def = def;
+  p->pdata = pdata;
+  p->configured = true;
+}
+
+}  // namespace
+
+struct _GstTensorDecoder {
+  GstBaseTransform parent;
+  DecoderPriv *priv;
+};
+
+G_DEFINE_TYPE(GstTensorDecoder, gst_tensor_decoder, GST_TYPE_BASE_TRANSFORM)
+GST_ELEMENT_REGISTER_DEFINE(tensor_decoder, "tensor_decoder", GST_RANK_NONE,
+                            GST_TYPE_TENSOR_DECODER)
+
+static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
+    "sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_TENSOR_CAPS_ALL_FORMATS_STR));
+static GstStaticPadTemplate src_template =
+    GST_STATIC_PAD_TEMPLATE("src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS_ANY);
+
+static void gst_tensor_decoder_set_property(GObject *object, guint id, const GValue *value,
+                                            GParamSpec *pspec) {
+  auto *self = GST_TENSOR_DECODER(object);
+  auto *p = self->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  if (id >= PROP_OPTION1 && id <= PROP_OPTION9) {
+    const char *s = g_value_get_string(value);
+    p->options[id - PROP_OPTION1] = s ? std::optional<std::string>(s) : std::nullopt;
+    p->release();
+    return;
+  }
+  switch (id) {
+    case PROP_SILENT:
+      p->silent = g_value_get_boolean(value);
+      break;
+    case PROP_MODE: {
+      const char *s = g_value_get_string(value);
+      p->mode = s ? s : "";
+      p->release();
+      break;
+    }
+    case PROP_CONFIG_FILE: {
+      const char *s = g_value_get_string(value);
+      p->config_file = s ? s : "";
+      if (!p->config_file.empty()) {
+        p->lock.unlock();  // the file sets other properties on this object
+        auto problems = nns::gst::apply_config_file(object, std::string(s));
+        p->lock.lock();
+        p->config_problems = std::move(problems);
+      }
+      break;
+    }
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static void gst_tensor_decoder_get_property(GObject *object, guint id, GValue *value,
+                                            GParamSpec *pspec) {
+  auto *self = GST_TENSOR_DECODER(object);
+  auto *p = self->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  if (id >= PROP_OPTION1 && id <= PROP_OPTION9) {
+    const auto &o = p->options[id - PROP_OPTION1];
+    g_value_set_string(value, o ? o->c_str() : nullptr);
+    return;
+  }
+  switch (id) {
+    case PROP_SILENT:
+      g_value_set_boolean(value, p->silent);
+      break;
+    case PROP_MODE:
+      g_value_set_string(value, p->mode.c_str());
+      break;
+    case PROP_CONFIG_FILE:
+      g_value_set_string(value, p->config_file.c_str());
+      break;
+    case PROP_SUBPLUGINS: {
+      std::string s;
+      for (const auto &n : nns::gst::DecoderRegistry::instance().names())
+        s += (s.empty() ? "" : ",") + n;
+      g_value_set_string(value, s.c_str());
+      break;
+    }
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+// Output caps for one (possibly unfixed) tensor structure.
+static GstCaps *out_caps_for(DecoderPriv *p, const GstStructure *s) {
+  if (p->custom) return gst_caps_new_empty_simple("application/octet-stream");
+  nns::TensorsConfig cfg;
+  try {
+    cfg = nns::gst::config_from_structure(s);
+  } catch (const nns::Error &) {
+    return gst_caps_new_any();  // not a complete description yet
+  }
+  nns::gst::CTensorsConfig c(cfg);
+  GstCaps *caps = p->def->getOutCaps(&p->pdata, c.get());
+  bool fixed = gst_structure_foreach(
+      s, [](GQuark, const GValue *v, gpointer) -> gboolean { return gst_value_is_fixed(v); },
+      nullptr);
+  if (!caps && fixed) {
+    std::string why = decoder_reason(p->pdata);
+    throw nns::Error(nns::ErrorKind::kNegotiation, "mode '" + p->mode + "' cannot decode input " +
+                                                       "'" + cfg.info.to_string() + "'" +
+                                                       (why.empty() ? "" : ": " + why));
+  }
+  return caps ? caps : gst_caps_new_any();
+}
+
+static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
+                                                  GstPadDirection direction, GstCaps *caps,
+                                                  GstCaps *filter) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  return nns::gst::guard(self, gst_caps_new_empty(), [&]() -> GstCaps * {
+    GstCaps *result;
+    if (direction == GST_PAD_SRC) {
+      result = gst_static_pad_template_get_caps(&sink_template);
+    } else {
+      auto *p = self->priv;
+      std::lock_guard<std::mutex> l(p->lock);
+      try {
+        configure(p);
+      } catch (const nns::Error &) {
+        // Linking may query caps before the settings are complete; start() reports them.
+        return gst_caps_new_any();
+      }
+      result = gst_caps_new_empty();
+      for (guint i = 0; i < gst_caps_get_size(caps); ++i)
+        result = gst_caps_merge(result, out_caps_for(p, gst_caps_get_structure(caps, i)));
+    }
+    if (filter) {
+      GstCaps *r = gst_caps_intersect_full(filter, result, GST_CAPS_INTERSECT_FIRST);
+      gst_caps_unref(result);
+      result = r;
+    }
+    return result;
+  });
+}
+
+static GstCaps *gst_tensor_decoder_fixate_caps(GstBaseTransform *trans, GstPadDirection direction,
+                                               GstCaps *caps, GstCaps *othercaps) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  (void)direction;
+  return nns::gst::guard(self, othercaps, [&]() -> GstCaps * {
+    auto *p = self->priv;
+    GstCaps *supposed;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      configure(p);
+      GstCaps *fixed_in = gst_caps_fixate(gst_caps_ref(caps));
+      supposed = out_caps_for(p, gst_caps_get_structure(fixed_in, 0));
+      gst_caps_unref(fixed_in);
+    }
+    GstCaps *r = gst_caps_intersect(othercaps, supposed);
+    gst_caps_unref(supposed);
+    if (gst_caps_is_empty(r)) {
+      gst_caps_unref(r);
+      r = othercaps;
+    } else {
+      gst_caps_unref(othercaps);
+    }
+    return gst_caps_fixate(r);
+  });
+}
+
+static gboolean gst_tensor_decoder_set_caps(GstBaseTransform *trans, GstCaps *incaps,
+                                            GstCaps *outcaps) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  (void)outcaps;
+  return nns::gst::guard(self, FALSE, [&] {
+    auto *p = self->priv;
+    std::lock_guard<std::mutex> l(p->lock);
+    configure(p);
+    p->in_cfg = nns::gst::config_from_caps(incaps);
+    nns::gst::to_c(p->in_cfg, p->in_config.get());
+    return TRUE;
+  });
+}
+
+static gboolean gst_tensor_decoder_transform_size(GstBaseTransform *trans,
+                                                  GstPadDirection direction, GstCaps *caps,
+                                                  gsize size, GstCaps *othercaps,
+                                                  gsize *othersize) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  auto *p = self->priv;
+  *othersize = 0;
+  if (direction == GST_PAD_SRC) return FALSE;
+  std::lock_guard<std::mutex> l(p->lock);
+  if (p->def && p->def->getTransformSize)
+    *othersize =
+        p->def->getTransformSize(&p->pdata, p->in_config.get(), caps, size, othercaps, direction);
+  return TRUE;
+}
+
+static GstFlowReturn gst_tensor_decoder_prepare_output_buffer(GstBaseTransform *trans,
+                                                              GstBuffer *inbuf,
+                                                              GstBuffer **outbuf) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  auto *p = self->priv;
+  gsize size = 0;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    if (p->def && p->def->getTransformSize) {
+      GstCaps *in = gst_pad_get_current_caps(GST_BASE_TRANSFORM_SINK_PAD(trans));
+      GstCaps *out = gst_pad_get_current_caps(GST_BASE_TRANSFORM_SRC_PAD(trans));
+      size = p->def->getTransformSize(&p->pdata, p->in_config.get(), in, gst_buffer_get_size(inbuf),
+                                      out, GST_PAD_SINK);
+      if (in) gst_caps_unref(in);
+      if (out) gst_caps_unref(out);
+    }
+  }
+  *outbuf = size ? gst_buffer_new_allocate(nullptr, size, nullptr) : gst_buffer_new();
+  gst_buffer_copy_into(*outbuf, inbuf, GST_BUFFER_COPY_METADATA, 0, -1);
+  return GST_FLOW_OK;
+}
+
+static GstFlowReturn gst_tensor_decoder_transform(GstBaseTransform *trans, GstBuffer *inbuf,
+                                                  GstBuffer *outbuf) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  return nns::gst::guard(self, GST_FLOW_ERROR, [&] {
+    auto *p = self->priv;
+    std::lock_guard<std::mutex> l(p->lock);
+    configure(p);
+    const auto &info = p->in_cfg.info;
+    std::size_t n = nns::gst::buffer_tensor_count(inbuf);
+    if (info.format != nns::TensorFormat::kStatic)
+      throw nns::Error(nns::ErrorKind::kStream, "flexible or sparse input is not supported yet");
+    nns::gst::check_static_buffer(inbuf, info);
+    if (n == 0 || n > NNS_TENSOR_SIZE_LIMIT)
+      throw nns::Error(nns::ErrorKind::kStream,
+                       "input buffer holds " + std::to_string(n) + " tensors");
+    std::array<GstMapInfo, NNS_TENSOR_SIZE_LIMIT> maps{};
+    std::array<GstMemory *, NNS_TENSOR_SIZE_LIMIT> mems{};
+    std::array<GstTensorMemory, NNS_TENSOR_SIZE_LIMIT> tm{};
+    std::size_t mapped = 0;
+    auto unmap = [&] {
+      for (std::size_t i = 0; i < mapped; ++i) {
+        gst_memory_unmap(mems[i], &maps[i]);
+        gst_memory_unref(mems[i]);
+      }
+    };
+    for (; mapped < n; ++mapped) {
+      mems[mapped] = nns::gst::buffer_get_tensor(inbuf, mapped);
+      if (!gst_memory_map(mems[mapped], &maps[mapped], GST_MAP_READ)) {
+        gst_memory_unref(mems[mapped]);
+        unmap();
+        throw nns::Error(nns::ErrorKind::kStream,
+                         "cannot map input tensor " + std::to_string(mapped));
+      }
+      tm[mapped].data = maps[mapped].data;
+      tm[mapped].size = maps[mapped].size;
+    }
+    GstFlowReturn ret = GST_FLOW_OK;
+    std::string what;
+    if (p->custom) {
+      int r = p->custom->func(tm.data(), p->in_config.get(), p->custom->data, outbuf);
+      if (r != 0) {
+        ret = GST_FLOW_ERROR;
+        what = "custom decoder '" + *p->options[0] + "' failed (" + std::to_string(r) + ")";
+      }
+    } else {
+      ret = p->def->decode(&p->pdata, p->in_config.get(), tm.data(), outbuf);
+      if (ret != GST_FLOW_OK) {
+        std::string why = decoder_reason(p->pdata);
+        what = "mode '" + p->mode + "' failed to decode a frame (flow " + gst_flow_get_name(ret) +
+               ")" + (why.empty() ? "" : ": " + why);
+      }
+    }
+    unmap();
+    if (ret != GST_FLOW_OK && ret != GST_FLOW_FLUSHING && ret != GST_FLOW_EOS)
+      throw nns::Error(nns::ErrorKind::kStream, what);
+    return ret;
+  });
+}
+
+static gboolean gst_tensor_decoder_start(GstBaseTransform *trans) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  return nns::gst::guard(self, FALSE, [&] {
+    std::lock_guard<std::mutex> l(self->priv->lock);
+    configure(self->priv);
+    return TRUE;
+  });
+}
+
+static void gst_tensor_decoder_finalize(GObject *object) {
+  auto *self = GST_TENSOR_DECODER(object);
+  self->priv->release();
+  delete self->priv;
+  G_OBJECT_CLASS(gst_tensor_decoder_parent_class)->finalize(object);
+}
+
+static void gst_tensor_decoder_init(GstTensorDecoder *self) {
+  self->priv = new DecoderPriv();
+  gst_base_transform_set_qos_enabled(GST_BASE_TRANSFORM(self), FALSE);
+}
+
+static void gst_tensor_decoder_class_init(GstTensorDecoderClass *klass) {
+  GST_DEBUG_CATEGORY_INIT(tensor_decoder_debug, "tensor_decoder", 0, "tensor_decoder element");
+  auto *gobject_class = G_OBJECT_CLASS(klass);
+  auto *element_class = GST_ELEMENT_CLASS(klass);
+  auto *trans_class = GST_BASE_TRANSFORM_CLASS(klass);
+  gobject_class->set_property = gst_tensor_decoder_set_property;
+  gobject_class->get_property = gst_tensor_decoder_get_property;
+  gobject_class->finalize = gst_tensor_decoder_finalize;
+
+  auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
+  g_object_class_install_property(
+      gobject_class, PROP_SILENT,
+      g_param_spec_boolean("silent", "Silent", "Produce verbose output", TRUE, rw));
+  g_object_class_install_property(
+      gobject_class, PROP_MODE,
+      g_param_spec_string("mode", "Mode",
+                          "Decoder mode. Other options (option1 to optionN) depend on the "
+                          "specified model. Available modes: see sub-plugins, or custom-code",
+                          "", rw));
+  static const char *const kNth[kNumOptions] = {"1st", "2nd", "3rd", "4th", "5th",
+                                                "6th", "7th", "8th", "9th"};
+  for (int i = 0; i < kNumOptions; ++i) {
+    std::string name = "option" + std::to_string(i + 1);
+    std::string blurb = std::string("option for specific decoder modes, ") + kNth[i] + " one.";
+    g_object_class_install_property(
+        gobject_class, PROP_OPTION1 + i,
+        g_param_spec_string(g_intern_string(name.c_str()), g_intern_string(name.c_str()),
+                            g_intern_string(blurb.c_str()), nullptr, rw));
+  }
+  g_object_class_install_property(
+      gobject_class, PROP_SUBPLUGINS,
+      g_param_spec_string("sub-plugins", "Sub-plugins", "Registrable sub-plugins list", "",
+                          static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  g_object_class_install_property(
+      gobject_class, PROP_CONFIG_FILE,
+      g_param_spec_string("config-file", "Configuration file",
+                          "Path to configuration file which contains plugins properties", "", rw));
+
+  gst_element_class_set_static_metadata(
+      element_class, "TensorDecoder", "Converter/Tensor",
+      "Converts tensor stream of C-Array for neural network framework filters to audio or "
+      "video stream",
+      "nnstreamer-cpp");
+  gst_element_class_add_static_pad_template(element_class, &sink_template);
+  gst_element_class_add_static_pad_template(element_class, &src_template);
+
+  trans_class->passthrough_on_same_caps = FALSE;
+  trans_class->transform_ip_on_passthrough = FALSE;
+  trans_class->start = gst_tensor_decoder_start;
+  trans_class->transform_caps = gst_tensor_decoder_transform_caps;
+  trans_class->fixate_caps = gst_tensor_decoder_fixate_caps;
+  trans_class->set_caps = gst_tensor_decoder_set_caps;
+  trans_class->transform_size = gst_tensor_decoder_transform_size;
+  trans_class->prepare_output_buffer = gst_tensor_decoder_prepare_output_buffer;
+  trans_class->transform = gst_tensor_decoder_transform;
+}

@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// tensor_decoder element + direct_video / image_labeling decoders + custom-code.
+#include <gst/gst.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "support/harness.h"
+#include "tensor_decoder_custom.h"
+
+using nns::test::HarnessPtr;
+using nns::test::run_pipeline;
+
+namespace {
+
+GstBuffer *bytes_buffer(const std::vector<uint8_t> &v) {
+  GstBuffer *b = gst_buffer_new_allocate(nullptr, v.size(), nullptr);
+  gst_buffer_fill(b, 0, v.data(), v.size());
+  return b;
+}
+
+std::vector<uint8_t> buffer_bytes(GstBuffer *b) {
+  std::vector<uint8_t> v(gst_buffer_get_size(b));
+  gst_buffer_extract(b, 0, v.data(), v.size());
+  return v;
+}
+
+// Runs one buffer through "tensor_decoder <props>" with the given input caps.
+struct OneShot {
+  HarnessPtr h;
+  GstBuffer *out = nullptr;
+  std::string out_caps;
+  ~OneShot() {
+    if (out) gst_buffer_unref(out);
+  }
+};
+
+void run_one(OneShot &r, const std::string &props, const std::string &in_caps,
+             const std::vector<uint8_t> &data) {
+  r.h.reset(gst_harness_new_parse(("tensor_decoder " + props).c_str()));
+  gst_harness_set_src_caps_str(r.h.get(), in_caps.c_str());
+  ASSERT_EQ(gst_harness_push(r.h.get(), bytes_buffer(data)), GST_FLOW_OK);
+  r.out = gst_harness_pull(r.h.get());
+  ASSERT_NE(r.out, nullptr);
+  GstCaps *c = gst_pad_get_current_caps(r.h->sinkpad);
+  ASSERT_NE(c, nullptr);
+  gchar *s = gst_caps_to_string(c);
+  r.out_caps = s;
+  g_free(s);
+  gst_caps_unref(c);
+}
+
+std::string write_temp(const std::string &name, const std::string &text) {
+  std::string path = nns::test::make_temp_dir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A pipeline head producing one uint8 tensor with the given dims (from a file of zeros).
+std::string tensor_src(const std::string &dims, std::size_t bytes) {
+  std::string path = write_temp("zeros.bin", std::string(bytes, '\0'));
+  return "filesrc location=" + path +
+         " blocksize=-1 num-buffers=1 ! application/octet-stream ! "
+         "tensor_converter input-dim=" +
+         dims + " input-type=uint8 ! ";
+}
+
+}  // namespace
+
+TEST(TensorDecoder, PropertiesAndDefaults) {
+  GstElement *e = gst_element_factory_make("tensor_decoder", nullptr);
+  ASSERT_NE(e, nullptr);
+  gchar *mode = nullptr, *opt = nullptr, *subs = nullptr;
+  gboolean silent = FALSE;
+  g_object_get(e, "mode", &mode, "option1", &opt, "sub-plugins", &subs, "silent", &silent, nullptr);
+  EXPECT_STREQ(mode, "");
+  EXPECT_EQ(opt, nullptr);
+  EXPECT_TRUE(silent);
+  std::string s = subs ? subs : "";
+  EXPECT_NE(s.find("direct_video"), std::string::npos) << s;
+  EXPECT_NE(s.find("image_labeling"), std::string::npos) << s;
+  g_free(mode);
+  g_free(opt);
+  g_free(subs);
+  g_object_set(e, "option9", "x", nullptr);
+  g_object_get(e, "option9", &opt, nullptr);
+  EXPECT_STREQ(opt, "x");
+  g_free(opt);
+  gst_object_unref(e);
+}
+
+TEST(TensorDecoder, DirectVideoRgbPadsRowsTo4Bytes) {
+  // 3 channels x 3 pixels = 9 bytes per row -> stride 12.
+  std::vector<uint8_t> in(3 * 3 * 2);
+  for (std::size_t i = 0; i < in.size(); ++i) in[i] = static_cast<uint8_t>(i + 1);
+  OneShot r;
+  run_one(r, "mode=direct_video",
+          "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)3:3:2:1,"
+          "framerate=30/1",
+          in);
+  EXPECT_NE(r.out_caps.find("format=(string)RGB"), std::string::npos) << r.out_caps;
+  EXPECT_NE(r.out_caps.find("width=(int)3"), std::string::npos) << r.out_caps;
+  EXPECT_NE(r.out_caps.find("height=(int)2"), std::string::npos) << r.out_caps;
+  auto out = buffer_bytes(r.out);
+  std::vector<uint8_t> want = {1,  2,  3,  4,  5,  6,  7,  8,  9,  0, 0, 0,
+                               10, 11, 12, 13, 14, 15, 16, 17, 18, 0, 0, 0};
+  EXPECT_EQ(out, want);
+}
+
+TEST(TensorDecoder, DirectVideoDefaultsByChannels) {
+  for (auto [ch, fmt] : {std::pair{1, "GRAY8"}, std::pair{4, "BGRx"}}) {
+    std::vector<uint8_t> in(ch * 4 * 2, 7);
+    OneShot r;
+    run_one(r, "mode=direct_video",
+            "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)" +
+                std::to_string(ch) + ":4:2:1,framerate=0/1",
+            in);
+    EXPECT_NE(r.out_caps.find(std::string("format=(string)") + fmt), std::string::npos)
+        << r.out_caps;
+    EXPECT_EQ(buffer_bytes(r.out), in);  // 4*ch is a multiple of 4: no padding
+  }
+}
+
+TEST(TensorDecoder, DirectVideoOption1Format) {
+  std::vector<uint8_t> in(4 * 2 * 2, 3);
+  OneShot r;
+  run_one(r, "mode=direct_video option1=RGBA",
+          "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)4:2:2:1,"
+          "framerate=0/1",
+          in);
+  EXPECT_NE(r.out_caps.find("format=(string)RGBA"), std::string::npos) << r.out_caps;
+}
+
+TEST(TensorDecoder, DirectVideoPipeline) {
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=2 ! video/x-raw,format=RGB,width=30,height=20 ! "
+      "tensor_converter ! tensor_decoder mode=direct_video ! videoconvert ! fakesink");
+  EXPECT_TRUE(r.eos) << r.error_text;
+}
+
+TEST(TensorDecoder, ImageLabelingArgmax) {
+  std::string labels = write_temp("labels.txt", "cat\ndog\norange\nbanana\n");
+  std::vector<float> scores = {0.1f, 0.3f, 0.9f, 0.2f};
+  std::vector<uint8_t> in(reinterpret_cast<uint8_t *>(scores.data()),
+                          reinterpret_cast<uint8_t *>(scores.data()) + 16);
+  OneShot r;
+  run_one(r, "mode=image_labeling option1=" + labels,
+          "other/tensors,format=static,num_tensors=1,types=float32,dimensions=(string)4:1:1:1,"
+          "framerate=0/1",
+          in);
+  EXPECT_NE(r.out_caps.find("text/x-raw"), std::string::npos) << r.out_caps;
+  EXPECT_NE(r.out_caps.find("utf8"), std::string::npos) << r.out_caps;
+  auto out = buffer_bytes(r.out);
+  EXPECT_EQ(std::string(out.begin(), out.end()), "orange");
+}
+
+TEST(TensorDecoder, ImageLabelingUint8FirstMaxWins) {
+  std::string labels = write_temp("labels.txt", "a\nb\nc\n");
+  OneShot r;
+  run_one(
+      r, "mode=image_labeling option1=" + labels,
+      "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)3:1,framerate=0/1",
+      {5, 9, 9});
+  auto out = buffer_bytes(r.out);
+  EXPECT_EQ(std::string(out.begin(), out.end()), "b");
+}
+
+// mobilenet_v2 (onnxruntime) on orange.raw -> "orange".
+TEST(TensorDecoder, ImageLabelingMobilenetOrange) {
+  NNS_REQUIRE_SHARED_MODELS();
+  const char *fdir = g_getenv("NNSTREAMER_FILTERS");
+  if (!fdir || !std::filesystem::exists(std::string(fdir) + "/libnnstreamer_filter_onnxruntime.so"))
+    GTEST_SKIP() << "onnxruntime filter back end not built";
+  std::string d = nns::test::shared_models_dir();
+  std::string desc =
+      "filesrc location=" + d +
+      "/data/orange.raw blocksize=-1 ! "
+      "application/octet-stream ! tensor_converter input-dim=3:224:224:1 input-type=uint8 ! "
+      "tensor_transform mode=transpose option=1:2:0:3 ! "
+      "tensor_transform mode=arithmetic option=typecast:float32,div:127.5,add:-1 ! "
+      "tensor_filter framework=onnxruntime model=" +
+      d +
+      "/models/mobilenet_v2_quant.onnx ! "
+      "tensor_decoder mode=image_labeling option1=" +
+      d +
+      "/labels/labels.txt ! "
+      "appsink name=out sync=false";
+  GError *err = nullptr;
+  GstElement *pipe = gst_parse_launch(desc.c_str(), &err);
+  ASSERT_NE(pipe, nullptr) << (err ? err->message : "");
+  GstElement *sink = gst_bin_get_by_name(GST_BIN(pipe), "out");
+  gst_element_set_state(pipe, GST_STATE_PLAYING);
+  GstSample *s = nullptr;
+  g_signal_emit_by_name(sink, "pull-sample", &s);
+  ASSERT_NE(s, nullptr);
+  auto out = buffer_bytes(gst_sample_get_buffer(s));
+  EXPECT_EQ(std::string(out.begin(), out.end()), "orange");
+  gst_sample_unref(s);
+  gst_element_set_state(pipe, GST_STATE_NULL);
+  gst_object_unref(sink);
+  gst_object_unref(pipe);
+}
+
+namespace {
+int custom_sum(const GstTensorMemory *input, const GstTensorsConfig *config, void *data,
+               GstBuffer *out) {
+  (void)config;
+  int s = *static_cast<int *>(data);
+  for (size_t i = 0; i < input[0].size; ++i) s += static_cast<const uint8_t *>(input[0].data)[i];
+  GstMemory *m = gst_allocator_alloc(nullptr, sizeof s, nullptr);
+  GstMapInfo map;
+  gst_memory_map(m, &map, GST_MAP_WRITE);
+  memcpy(map.data, &s, sizeof s);
+  gst_memory_unmap(m, &map);
+  gst_buffer_append_memory(out, m);
+  return 0;
+}
+}  // namespace
+
+TEST(TensorDecoder, CustomCode) {
+  static int base = 100;
+  ASSERT_EQ(nnstreamer_decoder_custom_register("sum", custom_sum, &base), 0);
+  EXPECT_NE(nnstreamer_decoder_custom_register("sum", custom_sum, &base), 0);
+  OneShot r;
+  run_one(
+      r, "mode=custom-code option1=sum",
+      "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)3:1,framerate=0/1",
+      {1, 2, 3});
+  auto out = buffer_bytes(r.out);
+  ASSERT_EQ(out.size(), 4u);
+  int v;
+  memcpy(&v, out.data(), 4);
+  EXPECT_EQ(v, 106);
+  EXPECT_EQ(nnstreamer_decoder_custom_unregister("sum"), 0);
+  EXPECT_NE(nnstreamer_decoder_custom_unregister("sum"), 0);
+}
+
+// ---- negative: bus error texts ----
+
+TEST(TensorDecoderErrors, UnknownModeListsAvailable) {
+  auto r = run_pipeline(tensor_src("3:4:4:1", 48) + "tensor_decoder mode=nosuch ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("unknown mode 'nosuch'"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("direct_video"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("tensordecoder0"), std::string::npos) << r.error_text;
+}
+
+TEST(TensorDecoderErrors, RejectedOptionNamesNumberAndValue) {
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=1 ! video/x-raw,format=RGB,width=4,height=4 ! tensor_converter "
+      "! tensor_decoder mode=direct_video option1=NV12 ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("option1='NV12'"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("not a supported video format"), std::string::npos) << r.error_text;
+}
+
+TEST(TensorDecoderErrors, MissingLabelFile) {
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=1 ! video/x-raw,format=GRAY8,width=4,height=1 ! tensor_converter "
+      "! tensor_decoder mode=image_labeling option1=/nonexistent/labels.txt ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("cannot read label file '/nonexistent/labels.txt'"),
+            std::string::npos)
+      << r.error_text;
+}
+
+TEST(TensorDecoderErrors, LabelFileShorterThanClasses) {
+  std::string labels = write_temp("short.txt", "a\nb\n");
+  auto r = run_pipeline(tensor_src("4:1:1:1", 4) +
+                        "tensor_decoder mode=image_labeling option1=" + labels + " ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("has 2 labels, the tensor has 4 classes"), std::string::npos)
+      << r.error_text;
+}
+
+TEST(TensorDecoderErrors, DirectVideoWrongChannels) {
+  auto r = run_pipeline(tensor_src("2:4:2:1", 16) + "tensor_decoder mode=direct_video ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("mode 'direct_video' cannot decode input"), std::string::npos)
+      << r.error_text;
+}
+
+TEST(TensorDecoderErrors, CustomCodeNotRegistered) {
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=1 ! video/x-raw,format=GRAY8,width=4,height=2 ! tensor_converter "
+      "! tensor_decoder mode=custom-code option1=nobody ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("no custom decoder 'nobody'"), std::string::npos) << r.error_text;
+}
