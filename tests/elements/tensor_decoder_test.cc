@@ -195,8 +195,25 @@ TEST(TensorDecoder, ImageLabelingMobilenetOrange) {
   GstElement *sink = gst_bin_get_by_name(GST_BIN(pipe), "out");
   gst_element_set_state(pipe, GST_STATE_PLAYING);
   GstSample *s = nullptr;
-  g_signal_emit_by_name(sink, "pull-sample", &s);
-  ASSERT_NE(s, nullptr);
+  // try-pull-sample: a pipeline error must fail the test, not hang it.
+  g_signal_emit_by_name(sink, "try-pull-sample", static_cast<GstClockTime>(60 * GST_SECOND), &s);
+  if (!s) {
+    GstBus *bus = gst_element_get_bus(pipe);
+    GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+    std::string why = "no sample within 60 s";
+    if (m) {
+      GError *e = nullptr;
+      gst_message_parse_error(m, &e, nullptr);
+      why = e->message;
+      g_error_free(e);
+      gst_message_unref(m);
+    }
+    gst_object_unref(bus);
+    gst_element_set_state(pipe, GST_STATE_NULL);
+    gst_object_unref(sink);
+    gst_object_unref(pipe);
+    FAIL() << why;
+  }
   auto out = buffer_bytes(gst_sample_get_buffer(s));
   EXPECT_EQ(std::string(out.begin(), out.end()), "orange");
   gst_sample_unref(s);

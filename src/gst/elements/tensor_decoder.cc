@@ -229,6 +229,9 @@ static GstCaps *out_caps_for(DecoderPriv *p, const GstStructure *s) {
   } catch (const nns::Error &) {
     return gst_caps_new_any();  // not a complete description yet
   }
+  // Flexible and sparse input are not decoded yet: such a structure maps to nothing (a caps
+  // query may list them beside static caps; that is no error).
+  if (cfg.info.format != nns::TensorFormat::kStatic) return gst_caps_new_empty();
   nns::gst::CTensorsConfig c(cfg);
   GstCaps *caps = p->def->getOutCaps(&p->pdata, c.get());
   bool fixed = gst_structure_foreach(
@@ -250,7 +253,11 @@ static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
   return nns::gst::guard(self, gst_caps_new_empty(), [&]() -> GstCaps * {
     GstCaps *result;
     if (direction == GST_PAD_SRC) {
-      result = gst_static_pad_template_get_caps(&sink_template);
+      // Flexible and sparse input are not decoded yet, so only static caps are offered
+      // upstream (the template keeps NNStreamer's formats so linking behaves the same).
+      result = gst_caps_from_string(
+          "other/tensor, framerate = (fraction) [ 0, max ]; "
+          "other/tensors, format = (string) static, framerate = (fraction) [ 0, max ]");
     } else {
       auto *p = self->priv;
       std::lock_guard<std::mutex> l(p->lock);
