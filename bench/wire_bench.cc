@@ -47,16 +47,15 @@ int main(int argc, char **argv) {
     sink = sink + dst[dst.size() / 2];
   });
   std::printf("%-10s %12.0f %12s %12zu\n", "memcpy", copy, "-", pixels.size());
-  for (auto fmt : {nns::wire::Format::kProtobuf, nns::wire::Format::kFlatbuf,
-                   nns::wire::Format::kFlexbuf}) {
+  for (auto fmt :
+       {nns::wire::Format::kProtobuf, nns::wire::Format::kFlatbuf, nns::wire::Format::kFlexbuf}) {
     std::vector<uint8_t> out;
     const double enc = mbps(pixels.size(), iters, [&] { nns::wire::encode(fmt, f, out); });
     const double dec = mbps(pixels.size(), iters, [&] {
       nns::wire::Frame g = nns::wire::decode(fmt, out.data(), out.size());
       sink = sink + g.tensors[0].data[7];
     });
-    std::printf("%-10s %12.0f %12.0f %12zu\n", nns::wire::format_name(fmt), enc, dec,
-                out.size());
+    std::printf("%-10s %12.0f %12.0f %12zu\n", nns::wire::format_name(fmt), enc, dec, out.size());
   }
   return 0;
 }

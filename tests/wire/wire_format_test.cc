@@ -77,8 +77,8 @@ TEST(WireFormat, RoundTripEveryTypeAndRank) {
         std::vector<uint8_t> bytes;
         nns::wire::encode(fmt, o.frame, bytes);
         Frame back = nns::wire::decode(fmt, bytes.data(), bytes.size());
-        SCOPED_TRACE(std::string(nns::wire::format_name(fmt)) + " type " +
-                     std::to_string(type) + " rank " + std::to_string(rank));
+        SCOPED_TRACE(std::string(nns::wire::format_name(fmt)) + " type " + std::to_string(type) +
+                     " rank " + std::to_string(rank));
         expect_same(o.frame, back);
       }
     }
@@ -233,8 +233,7 @@ TEST(WireFormat, FlexbufWrongValueTypes) {
     return b.GetBuffer();
   };
   const uint8_t one = 1;
-  auto tensor = [&](flexbuffers::Builder &b, auto &&name, int64_t type, auto &&dims,
-                    bool blob) {
+  auto tensor = [&](flexbuffers::Builder &b, auto &&name, int64_t type, auto &&dims, bool blob) {
     b.Vector("tensor_0", [&]() {
       name(b);
       b.Int(type);
@@ -275,7 +274,10 @@ TEST(WireFormat, FlexbufWrongValueTypes) {
         b.UInt("num_tensors", 1);
         tensor(b, str_name, 5, good_dims, false);
       }),
-      build([&](auto &b) { b.UInt("num_tensors", 2); tensor(b, str_name, 5, good_dims, true); }),
+      build([&](auto &b) {
+        b.UInt("num_tensors", 2);
+        tensor(b, str_name, 5, good_dims, true);
+      }),
   };
   for (std::size_t i = 0; i < cases.size(); ++i)
     EXPECT_THROW(nns::wire::decode_flexbuf(cases[i].data(), cases[i].size()), WireError) << i;
@@ -294,5 +296,7 @@ TEST(WireFormat, FlexbufWrongValueTypes) {
 
 }  // namespace
 #else
-TEST(WireFormat, Skipped) { GTEST_SKIP() << "protobuf/flatbuffers not found: nns_wire not built"; }
+TEST(WireFormat, Skipped) {
+  GTEST_SKIP() << "protobuf/flatbuffers not found: nns_wire not built";
+}
 #endif

@@ -82,9 +82,8 @@ void expect_sample_tensors(GstBuffer *out, const Sample &s, const std::string &c
 
 GstBuffer *convert_once(Format fmt, const std::vector<uint8_t> &bytes, std::string *caps) {
   HarnessPtr h(gst_harness_new_parse("tensor_converter"));
-  gst_harness_set_src_caps_str(h.get(), (std::string(nns::wire::media_type(fmt)) +
-                                         ",framerate=(fraction)30/1")
-                                            .c_str());
+  gst_harness_set_src_caps_str(
+      h.get(), (std::string(nns::wire::media_type(fmt)) + ",framerate=(fraction)30/1").c_str());
   EXPECT_EQ(GST_FLOW_OK, gst_harness_push(h.get(), buffer_of(bytes)));
   GstBuffer *out = gst_harness_try_pull(h.get());
   *caps = caps_of(h->sinkpad);
@@ -117,23 +116,22 @@ TEST(WirePipeline, CorruptInputIsABusError) {
     std::ofstream(path, std::ios::binary)
         .write(reinterpret_cast<const char *>(bytes.data()), bytes.size());
     auto r = nns::test::run_pipeline("filesrc location=" + path + " ! " +
-                                     nns::wire::media_type(fmt) +
-                                     " ! tensor_converter ! fakesink");
+                                     nns::wire::media_type(fmt) + " ! tensor_converter ! fakesink");
     EXPECT_TRUE(r.error);
     EXPECT_NE(std::string::npos, r.error_text.find("tensorconverter")) << r.error_text;
-    EXPECT_NE(std::string::npos, r.error_text.find(nns::wire::format_name(fmt)))
-        << r.error_text;
+    EXPECT_NE(std::string::npos, r.error_text.find(nns::wire::format_name(fmt))) << r.error_text;
   }
 }
 
 const GstTensorDecoderDef *load_decoder(Format fmt) {
-  const std::string path = std::string(NNS_BUILD_DIR) + "/subplugins/decoders/libnnstreamer_decoder_" +
+  const std::string path = std::string(NNS_BUILD_DIR) +
+                           "/subplugins/decoders/libnnstreamer_decoder_" +
                            nns::wire::format_name(fmt) + ".so";
   void *h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   EXPECT_NE(nullptr, h) << dlerror();
   if (!h) return nullptr;
-  auto entry = reinterpret_cast<nns_decoder_subplugin_entry_fn>(
-      dlsym(h, NNS_DECODER_SUBPLUGIN_ENTRY));
+  auto entry =
+      reinterpret_cast<nns_decoder_subplugin_entry_fn>(dlsym(h, NNS_DECODER_SUBPLUGIN_ENTRY));
   EXPECT_NE(nullptr, entry);
   return entry ? entry() : nullptr;  // left loaded for the process
 }
@@ -159,8 +157,8 @@ TEST(WireDecoder, EntryEncodesAndConverterRoundTrips) {
     cfg.info.info[0].dimension[0] = 3;
     cfg.info.info[0].dimension[1] = 4;
     cfg.info.info[1].type = _NNS_FLOAT32;
-    cfg.info.info[1].dimension[0] = cfg.info.info[1].dimension[1] =
-        cfg.info.info[1].dimension[2] = 2;
+    cfg.info.info[1].dimension[0] = cfg.info.info[1].dimension[1] = cfg.info.info[1].dimension[2] =
+        2;
 
     GstCaps *caps = d->getOutCaps(&priv, &cfg);
     ASSERT_NE(nullptr, caps);
@@ -197,5 +195,7 @@ TEST(WireDecoder, EntryEncodesAndConverterRoundTrips) {
 
 }  // namespace
 #else
-TEST(WirePipeline, Skipped) { GTEST_SKIP() << "protobuf/flatbuffers not found: wire sub-plugins not built"; }
+TEST(WirePipeline, Skipped) {
+  GTEST_SKIP() << "protobuf/flatbuffers not found: wire sub-plugins not built";
+}
 #endif

@@ -10,18 +10,24 @@ std::size_t type_size(uint32_t type) {
 
 const char *format_name(Format f) {
   switch (f) {
-    case Format::kProtobuf: return "protobuf";
-    case Format::kFlatbuf: return "flatbuf";
-    case Format::kFlexbuf: return "flexbuf";
+    case Format::kProtobuf:
+      return "protobuf";
+    case Format::kFlatbuf:
+      return "flatbuf";
+    case Format::kFlexbuf:
+      return "flexbuf";
   }
   return "?";
 }
 
 const char *media_type(Format f) {
   switch (f) {
-    case Format::kProtobuf: return "other/protobuf-tensor";
-    case Format::kFlatbuf: return "other/flatbuf-tensor";
-    case Format::kFlexbuf: return "other/flexbuf";
+    case Format::kProtobuf:
+      return "other/protobuf-tensor";
+    case Format::kFlatbuf:
+      return "other/flatbuf-tensor";
+    case Format::kFlexbuf:
+      return "other/flexbuf";
   }
   return "?";
 }
@@ -31,8 +37,7 @@ void validate(const Frame &f) {
   if (n == 0 || n > kTensorLimit)
     throw WireError("frame holds " + std::to_string(n) + " tensors, expected 1.." +
                     std::to_string(kTensorLimit));
-  if (f.format >= kFormatEnd)
-    throw WireError("invalid tensor format " + std::to_string(f.format));
+  if (f.format >= kFormatEnd) throw WireError("invalid tensor format " + std::to_string(f.format));
   for (std::size_t i = 0; i < n; ++i) {
     const Tensor &t = f.tensors[i];
     const std::string who = "tensor " + std::to_string(i);
@@ -65,9 +70,12 @@ void validate(const Frame &f) {
 
 void encode(Format fmt, const Frame &f, std::vector<uint8_t> &out) {
   switch (fmt) {
-    case Format::kProtobuf: return encode_protobuf(f, out);
-    case Format::kFlatbuf: return encode_flatbuf(f, out);
-    case Format::kFlexbuf: return encode_flexbuf(f, out);
+    case Format::kProtobuf:
+      return encode_protobuf(f, out);
+    case Format::kFlatbuf:
+      return encode_flatbuf(f, out);
+    case Format::kFlexbuf:
+      return encode_flexbuf(f, out);
   }
   throw WireError("unknown wire format");
 }
@@ -75,9 +83,12 @@ void encode(Format fmt, const Frame &f, std::vector<uint8_t> &out) {
 Frame decode(Format fmt, const uint8_t *data, std::size_t size) {
   if (!data || !size) throw WireError(std::string(format_name(fmt)) + ": empty input");
   switch (fmt) {
-    case Format::kProtobuf: return decode_protobuf(data, size);
-    case Format::kFlatbuf: return decode_flatbuf(data, size);
-    case Format::kFlexbuf: return decode_flexbuf(data, size);
+    case Format::kProtobuf:
+      return decode_protobuf(data, size);
+    case Format::kFlatbuf:
+      return decode_flatbuf(data, size);
+    case Format::kFlexbuf:
+      return decode_flexbuf(data, size);
   }
   throw WireError("unknown wire format");
 }

@@ -80,8 +80,8 @@ GstBuffer *convert(GstBuffer *in, GstTensorsConfig *config, void *) {
       GstMemory *m;
       if (f.owner) {  // protobuf: the message owns the bytes
         auto *o = new Owner{f.owner};
-        m = gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, const_cast<uint8_t *>(t.data),
-                                   t.size, 0, t.size, o,
+        m = gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, const_cast<uint8_t *>(t.data), t.size,
+                                   0, t.size, o,
                                    [](gpointer p) { delete static_cast<Owner *>(p); });
       } else if (single) {
         m = gst_memory_share(mem, static_cast<gssize>(t.data - map.data),
@@ -130,6 +130,7 @@ NNStreamerExternalConverter table = {
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const NNStreamerExternalConverter *nns_converter_subplugin_entry(void) {
+extern "C" __attribute__((visibility("default"))) const NNStreamerExternalConverter *
+nns_converter_subplugin_entry(void) {
   return &table;
 }

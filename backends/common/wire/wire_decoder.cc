@@ -45,8 +45,12 @@ int init(void **priv) {
   *priv = nullptr;
   return TRUE;
 }
-void exit_(void **priv) { *priv = nullptr; }
-int set_option(void **, int, const char *) { return TRUE; }
+void exit_(void **priv) {
+  *priv = nullptr;
+}
+int set_option(void **, int, const char *) {
+  return TRUE;
+}
 
 GstCaps *get_out_caps(void **, const GstTensorsConfig *config) {
   GstCaps *caps = gst_caps_new_empty_simple(nns::wire::media_type(kFormat));
@@ -106,6 +110,7 @@ GstTensorDecoderDef table = {
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const GstTensorDecoderDef *nns_decoder_subplugin_entry(void) {
+extern "C" __attribute__((visibility("default"))) const GstTensorDecoderDef *
+nns_decoder_subplugin_entry(void) {
   return &table;
 }

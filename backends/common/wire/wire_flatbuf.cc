@@ -41,8 +41,7 @@ Frame decode_flatbuf(const uint8_t *data, std::size_t size) {
   if (root->num_tensor() < 0 || static_cast<std::size_t>(root->num_tensor()) != n)
     throw WireError("flatbuf: num_tensor is " + std::to_string(root->num_tensor()) + " but " +
                     std::to_string(n) + " tensors follow");
-  if (n > kTensorLimit)
-    throw WireError("flatbuf: " + std::to_string(n) + " tensors, limit is 256");
+  if (n > kTensorLimit) throw WireError("flatbuf: " + std::to_string(n) + " tensors, limit is 256");
   f.tensors.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const fb::Tensor *ft = tv->Get(static_cast<flatbuffers::uoffset_t>(i));

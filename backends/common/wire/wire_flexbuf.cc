@@ -38,7 +38,9 @@ namespace {
 [[noreturn]] void bad(std::size_t i, const std::string &what) {
   throw WireError("flexbuf: tensor_" + std::to_string(i) + ": " + what);
 }
-bool is_integer(const flexbuffers::Reference &r) { return r.IsInt() || r.IsUInt(); }
+bool is_integer(const flexbuffers::Reference &r) {
+  return r.IsInt() || r.IsUInt();
+}
 }  // namespace
 
 Frame decode_flexbuf(const uint8_t *data, std::size_t size) {
@@ -86,7 +88,8 @@ Frame decode_flexbuf(const uint8_t *data, std::size_t size) {
     }
     if (!is_integer(v[1])) bad(i, "type is not an integer");
     const int64_t ty = v[1].AsInt64();
-    if (ty < 0 || ty >= static_cast<int64_t>(kTypeEnd)) bad(i, "invalid type " + std::to_string(ty));
+    if (ty < 0 || ty >= static_cast<int64_t>(kTypeEnd))
+      bad(i, "invalid type " + std::to_string(ty));
     t.type = static_cast<uint32_t>(ty);
     flexbuffers::Reference d = v[2];
     if (!d.IsAnyVector()) bad(i, "dimension is not a vector");
@@ -96,8 +99,8 @@ Frame decode_flexbuf(const uint8_t *data, std::size_t size) {
     if (rank > kRankLimit) bad(i, std::to_string(rank) + " dimensions, limit is 16");
     for (std::size_t k = 0; k < rank; ++k) {
       flexbuffers::Reference e = d.IsTypedVector()        ? d.AsTypedVector()[k]
-                                  : d.IsFixedTypedVector() ? d.AsFixedTypedVector()[k]
-                                                           : d.AsVector()[k];
+                                 : d.IsFixedTypedVector() ? d.AsFixedTypedVector()[k]
+                                                          : d.AsVector()[k];
       if (!is_integer(e)) bad(i, "dimension " + std::to_string(k) + " is not an integer");
       const int64_t dv = e.AsInt64();
       if (dv < 0 || dv > UINT32_MAX) bad(i, "dimension " + std::to_string(k) + " out of range");
