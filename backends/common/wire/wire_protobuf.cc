@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Frames <-> nnstreamer.proto messages (NNStreamer::Tensors).
+#include "nnstreamer.pb.h"
+#include "wire.h"
+
+namespace nns::wire {
+
+void encode_protobuf(const Frame &f, std::vector<uint8_t> &out) {
+  validate(f);
+  NNStreamer::Tensors msg;
+  msg.set_num_tensor(static_cast<uint32_t>(f.tensors.size()));
+  msg.mutable_fr()->set_rate_n(f.rate_n);
+  msg.mutable_fr()->set_rate_d(f.rate_d);
+  msg.set_format(static_cast<NNStreamer::Tensors_Tensor_format>(f.format));
+  for (const Tensor &t : f.tensors) {
+    NNStreamer::Tensor *pt = msg.add_tensor();
+    pt->set_name(t.name);
+    pt->set_type(static_cast<NNStreamer::Tensor_Tensor_type>(t.type));
+    for (uint32_t d : t.dims) pt->add_dimension(d);  // all 16 entries, as upstream writes
+    pt->set_data(t.data, t.size);
+  }
+  out.resize(msg.ByteSizeLong());
+  if (!msg.SerializeToArray(out.data(), static_cast<int>(out.size())))
+    throw WireError("protobuf: serialisation failed");
+}
+
+Frame decode_protobuf(const uint8_t *data, std::size_t size) {
+  if (size > INT32_MAX) throw WireError("protobuf: input larger than 2 GiB");
+  auto msg = std::make_shared<NNStreamer::Tensors>();
+  if (!msg->ParseFromArray(data, static_cast<int>(size)))
+    throw WireError("protobuf: input is not a valid NNStreamer.Tensors message");
+  Frame f;
+  f.format = static_cast<uint32_t>(msg->format());
+  f.rate_n = msg->fr().rate_n();
+  f.rate_d = msg->fr().rate_d();
+  if (msg->num_tensor() != static_cast<uint32_t>(msg->tensor_size()))
+    throw WireError("protobuf: num_tensor is " + std::to_string(msg->num_tensor()) + " but " +
+                    std::to_string(msg->tensor_size()) + " tensors follow");
+  if (static_cast<std::size_t>(msg->tensor_size()) > kTensorLimit)
+    throw WireError("protobuf: " + std::to_string(msg->tensor_size()) + " tensors, limit is " +
+                    std::to_string(kTensorLimit));
+  f.tensors.resize(msg->tensor_size());
+  for (int i = 0; i < msg->tensor_size(); ++i) {
+    const NNStreamer::Tensor &pt = msg->tensor(i);
+    Tensor &t = f.tensors[i];
+    t.name = pt.name();
+    t.type = static_cast<uint32_t>(pt.type());
+    if (static_cast<std::size_t>(pt.dimension_size()) > kRankLimit)
+      throw WireError("protobuf: tensor " + std::to_string(i) + " has " +
+                      std::to_string(pt.dimension_size()) + " dimensions, limit is 16");
+    for (int k = 0; k < pt.dimension_size(); ++k) t.dims[k] = pt.dimension(k);
+    t.data = reinterpret_cast<const uint8_t *>(pt.data().data());
+    t.size = pt.data().size();
+  }
+  f.owner = msg;
+  validate(f);
+  return f;
+}
+
+}  // namespace nns::wire
