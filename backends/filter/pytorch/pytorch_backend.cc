@@ -350,7 +350,14 @@ class TorchBackend final : public FilterBackend {
       }
     }
     device_ = want_gpu ? at::Device(at::kCUDA) : at::Device(at::kCPU);
-    if (threads > 0 && at::get_num_threads() != threads) at::set_num_threads(threads);
+    threads_ = threads;
+    apply_threads();
+  }
+
+  // libtorch's OpenMP thread count is per calling thread (the element opens the model in one
+  // thread and invokes it from the streaming thread): apply it where the work runs.
+  void apply_threads() const {
+    if (threads_ > 0 && at::get_num_threads() != threads_) at::set_num_threads(threads_);
   }
 
   std::shared_ptr<torch::jit::Module> load(const std::string &path) {
@@ -494,6 +501,7 @@ class TorchBackend final : public FilterBackend {
       std::lock_guard<std::mutex> lk(module_mu_);
       m = module_;
     }
+    apply_threads();
     if (device_.is_cuda())
       for (auto &f : feeds) f = f.toTensor().to(device_);
     c10::IValue result;
@@ -539,6 +547,7 @@ class TorchBackend final : public FilterBackend {
 
   std::string path_;
   at::Device device_{at::kCPU};
+  int threads_ = 0;         // NumThreads / num_threads; 0 = libtorch's default
   bool optimize_ = true;    // custom OptimizeForInference
   bool optimized_ = false;  // the loaded module is frozen and optimized
   mutable std::mutex module_mu_;
