@@ -308,3 +308,55 @@ TEST(TensorDecoderErrors, CustomCodeNotRegistered) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("no custom decoder 'nobody'"), std::string::npos) << r.error_text;
 }
+
+TEST(TensorDecoder, OctetStreamConcatenatesTensors) {
+  // One tensor: the bytes pass through unchanged, the framerate is kept.
+  std::vector<uint8_t> in = {9, 8, 7, 6, 5, 4};
+  OneShot r;
+  run_one(r, "mode=octet_stream",
+          "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)6:1:1:1,"
+          "framerate=15/1",
+          in);
+  EXPECT_NE(r.out_caps.find("application/octet-stream"), std::string::npos) << r.out_caps;
+  EXPECT_NE(r.out_caps.find("framerate=(fraction)15/1"), std::string::npos) << r.out_caps;
+  EXPECT_EQ(buffer_bytes(r.out), in);
+
+  // Two tensors (uint8 x3, float32 x2) in two memories: one buffer of 3 + 8 bytes in order.
+  HarnessPtr h(gst_harness_new_parse("tensor_decoder mode=octet_stream"));
+  gst_harness_set_src_caps_str(h.get(),
+                               "other/tensors,format=static,num_tensors=2,types=(string)\"uint8,"
+                               "float32\",dimensions=(string)\"3,2\",framerate=0/1");
+  std::vector<uint8_t> a = {1, 2, 3};
+  float f[2] = {1.5f, -2.0f};
+  GstBuffer *b = gst_buffer_new();
+  GstBuffer *ba = bytes_buffer(a);
+  gst_buffer_append_memory(b, gst_buffer_get_memory(ba, 0));
+  gst_buffer_unref(ba);
+  GstBuffer *bf = gst_buffer_new_allocate(nullptr, sizeof f, nullptr);
+  gst_buffer_fill(bf, 0, f, sizeof f);
+  gst_buffer_append_memory(b, gst_buffer_get_memory(bf, 0));
+  gst_buffer_unref(bf);
+  ASSERT_EQ(gst_harness_push(h.get(), b), GST_FLOW_OK);
+  GstBuffer *out = gst_harness_pull(h.get());
+  ASSERT_NE(out, nullptr);
+  auto got = buffer_bytes(out);
+  gst_buffer_unref(out);
+  ASSERT_EQ(got.size(), 3u + sizeof f);
+  EXPECT_EQ(std::vector<uint8_t>(got.begin(), got.begin() + 3), a);
+  EXPECT_EQ(std::memcmp(got.data() + 3, f, sizeof f), 0);
+}
+
+TEST(TensorDecoder, OctetStreamRoundTripsThroughTheConverter) {
+  // tensor_converter (octet -> tensor) and tensor_decoder mode=octet_stream are inverses.
+  std::string payload = "nnstreamer-cpp!";  // 15 bytes
+  std::string in = write_temp("payload.bin", payload);
+  std::string out = nns::test::make_temp_dir() + "/out.bin";
+  auto r = run_pipeline("filesrc location=" + in +
+                        " blocksize=15 ! application/octet-stream ! tensor_converter "
+                        "input-dim=15 input-type=uint8 ! tensor_decoder mode=octet_stream ! "
+                        "filesink location=" +
+                        out);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto got = nns::test::read_file(out);
+  EXPECT_EQ(std::string(got.begin(), got.end()), payload);
+}
