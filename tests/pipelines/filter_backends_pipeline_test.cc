@@ -24,8 +24,6 @@ class FilterPipeline : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!have_element("tensor_filter")) GTEST_SKIP() << "tensor_filter is not built yet";
-    // ctest sets it; when the binary runs by hand, point tensor_filter at the build tree.
-    setenv("NNSTREAMER_FILTERS", filters_dir().c_str(), 0);
     dir_ = make_temp_dir();
   }
   void TearDown() override {
