@@ -53,8 +53,8 @@
 namespace {
 
 constexpr int kRate = 16000;
-constexpr int kWindow = 512;   // new samples per model call (32 ms)
-constexpr int kContext = 64;   // samples of the previous window in front of them
+constexpr int kWindow = 512;  // new samples per model call (32 ms)
+constexpr int kContext = 64;  // samples of the previous window in front of them
 constexpr int kStateDim = 128;
 
 struct Args {
@@ -66,30 +66,31 @@ struct Args {
 };
 
 int usage(const char *msg) {
-  std::fprintf(stderr,
-               "nns-vad: %s\nusage: nns-vad --audio FILE.wav --model MODEL.onnx [--stateless] "
-               "[--sr] [--frames] [--threshold 0.5] [--min-speech 250] [--min-silence 100] [--slot 90] "
-               "[--custom K:V]\n",
-               msg);
+  std::fprintf(
+      stderr,
+      "nns-vad: %s\nusage: nns-vad --audio FILE.wav --model MODEL.onnx [--stateless] "
+      "[--sr] [--frames] [--threshold 0.5] [--min-speech 250] [--min-silence 100] [--slot 90] "
+      "[--custom K:V]\n",
+      msg);
   return 2;
 }
 
 std::string pipeline_desc(const Args &a) {
-  const std::string state_caps =
-      "other/tensors,format=static,num_tensors=1,dimensions=(string)" +
-      std::to_string(kStateDim) + ":1:2,types=(string)float32,framerate=(fraction)0/1";
+  const std::string state_caps = "other/tensors,format=static,num_tensors=1,dimensions=(string)" +
+                                 std::to_string(kStateDim) +
+                                 ":1:2,types=(string)float32,framerate=(fraction)0/1";
   const std::string slot = std::to_string(a.slot);
   const std::string window = std::to_string(kContext + kWindow);
-  std::string d =
-      "filesrc location=\"" + a.audio +
-      "\" ! wavparse ! audioconvert ! audioresample ! "
-      "audio/x-raw,format=S16LE,rate=16000,channels=1 ! tee name=pcm "
-      "pcm. ! queue ! tensor_converter frames-per-tensor=" +
-      std::to_string(kContext) + " ! tensor_aggregator frames-in=" + std::to_string(kContext) +
-      " frames-out=" + window + " frames-flush=" + std::to_string(kWindow) +
-      " frames-dim=1 ! "
-      "tensor_transform mode=arithmetic option=typecast:float32,div:32768.0 ! "
-      "tensor_transform mode=dimchg option=0:1 ! ";
+  std::string d = "filesrc location=\"" + a.audio +
+                  "\" ! wavparse ! audioconvert ! audioresample ! "
+                  "audio/x-raw,format=S16LE,rate=16000,channels=1 ! tee name=pcm "
+                  "pcm. ! queue ! tensor_converter frames-per-tensor=" +
+                  std::to_string(kContext) +
+                  " ! tensor_aggregator frames-in=" + std::to_string(kContext) +
+                  " frames-out=" + window + " frames-flush=" + std::to_string(kWindow) +
+                  " frames-dim=1 ! "
+                  "tensor_transform mode=arithmetic option=typecast:float32,div:32768.0 ! "
+                  "tensor_transform mode=dimchg option=0:1 ! ";
   // tensor_mux orders its tensors by the order its pads were linked: audio, state, sr.
   d += a.sr ? "tee name=win win. ! queue ! mux.sink_0 " : "mux.sink_0 ";
   d += "tensor_reposrc slot-index=" + slot + " caps=\"" + state_caps + "\" ! mux.sink_1 ";
@@ -220,10 +221,10 @@ std::vector<Segment> segments(const std::vector<float> &probs, const Args &a) {
 }
 
 bool element_missing(std::string &which) {
-  for (const char *name : {"tensor_converter", "tensor_aggregator", "tensor_transform",
-                           "tensor_mux", "tensor_filter", "tensor_demux", "tensor_reposrc",
-                           "tensor_reposink", "tensor_split", "wavparse", "audioresample",
-                           "appsink"}) {
+  for (const char *name :
+       {"tensor_converter", "tensor_aggregator", "tensor_transform", "tensor_mux", "tensor_filter",
+        "tensor_demux", "tensor_reposrc", "tensor_reposink", "tensor_split", "wavparse",
+        "audioresample", "appsink"}) {
     GstElementFactory *f = gst_element_factory_find(name);
     if (!f) {
       which = name;
@@ -312,7 +313,8 @@ int main(int argc, char **argv) {
       last = i;
     }
   if (first < c.pcm.size()) {
-    const double on = static_cast<double>(first) / kRate, off = static_cast<double>(last + 1) / kRate;
+    const double on = static_cast<double>(first) / kRate,
+                 off = static_cast<double>(last + 1) / kRate;
     std::printf("signal: above 1%% full scale from %.3f s to %.3f s\n", on, off);
     // Mean probability of the frames inside that span and of those outside it by more than
     // kHangover (the probability decays over a few frames once speech stops).
@@ -330,9 +332,10 @@ int main(int argc, char **argv) {
         ++out_n;
       }
     }
-    std::printf("mean prob: %.4f inside the signal span (%d frames), %.4f outside +-0.25 s "
-                "(%d frames, max %.4f)\n",
-                in_n ? in_sum / in_n : 0.0, in_n, out_n ? out_sum / out_n : 0.0, out_n, out_max);
+    std::printf(
+        "mean prob: %.4f inside the signal span (%d frames), %.4f outside +-0.25 s "
+        "(%d frames, max %.4f)\n",
+        in_n ? in_sum / in_n : 0.0, in_n, out_n ? out_sum / out_n : 0.0, out_n, out_max);
   }
   if (a.frames)
     for (std::size_t k = 0; k < c.probs.size(); ++k)
