@@ -215,12 +215,12 @@ TEST(PoseEstimation, OffsetPositionsClampToTheFrame) {
 // ---- errors ----------------------------------------------------------------------------------
 
 namespace {
-std::string src(const std::string &dims, size_t bytes) {
+std::string src(const std::string &dims, size_t bytes, const std::string &types = "float32") {
   std::string path = nns::test::make_temp_dir() + "/in.bin";
   std::ofstream(path) << std::string(bytes, '\0');
   return "filesrc location=" + path +
          " blocksize=-1 num-buffers=1 ! application/octet-stream ! tensor_converter input-dim=" +
-         dims + " input-type=float32 ! ";
+         dims + " input-type=" + types + " ! ";
 }
 void expect_error(const std::string &desc, const std::string &want) {
   auto r = run_pipeline(desc);
@@ -285,4 +285,27 @@ TEST(PoseEstimationErrors, BatchDimensionRejected) {
   expect_error(src("17:9:9:2", 17 * 81 * 2 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 ! fakesink",
                "tensor 0 (heatmaps) must be C:W:H:1, got dim3 = 2");
+}
+
+TEST(PoseEstimationErrors, BadOption2) {
+  expect_error(src("17:9:9:1", 17 * 81 * 4) +
+                   "tensor_decoder mode=pose_estimation option1=64:64 option2=0:257 ! fakesink",
+               "option2: input size must be WIDTH:HEIGHT (positive), got '0:257'");
+}
+
+TEST(PoseEstimationErrors, HeatmapOffsetNeedsOption2) {
+  expect_error(src("17:9:9:1,34:9:9:1", 17 * 81 * 4 * 3, "float32,float32") +
+                   "tensor_decoder mode=pose_estimation option1=64:64 option4=heatmap-offset ! "
+                   "fakesink",
+               "heatmap-offset needs option2=<model input WIDTH:HEIGHT>");
+}
+
+// A real pipeline: decoder output composited over a video frame.
+TEST(PoseEstimation, PipelineThroughCompositor) {
+  auto r = run_pipeline(src("17:9:9:1", 17 * 81 * 4) +
+                        "tensor_decoder mode=pose_estimation option1=64:48 ! mix.sink_1 "
+                        "videotestsrc num-buffers=1 ! video/x-raw,width=64,height=48 ! mix.sink_0 "
+                        "compositor name=mix sink_0::zorder=0 sink_1::zorder=1 ! videoconvert ! "
+                        "fakesink");
+  EXPECT_TRUE(r.eos) << r.error_text;
 }
