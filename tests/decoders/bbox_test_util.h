@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
