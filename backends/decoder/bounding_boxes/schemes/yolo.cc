@@ -111,19 +111,31 @@ void corners(const Cand &c, Pt p[4]) {
 
 float cross(Pt o, Pt a, Pt b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
 
+// Geometry of an oriented candidate, computed once per frame before NMS.
+struct Quad {
+  float cx, cy, r;  // centre and circumradius
+  Pt p[4];
+};
+
+Quad quad_of(const Cand &c) {
+  Quad q;
+  q.cx = c.x + c.w / 2;
+  q.cy = c.y + c.h / 2;
+  q.r = std::hypot(c.w, c.h) / 2;
+  corners(c, q.p);
+  return q;
+}
+
 // Exact IoU of two oriented boxes: the convex quadrilateral A clipped by each edge of B
 // (Sutherland-Hodgman; at most 8 vertices), area by the shoelace formula.
-float iou_oriented(const Cand &a, const Cand &b) {
+float iou_oriented(const Cand &a, const Quad &qa, const Cand &b, const Quad &qb) {
   if (a.angle == 0.f && b.angle == 0.f) return iou_aligned(a, b);
-  const float dx = (a.x + a.w / 2) - (b.x + b.w / 2), dy = (a.y + a.h / 2) - (b.y + b.h / 2);
-  const float ra = std::hypot(a.w, a.h) / 2, rb = std::hypot(b.w, b.h) / 2;
-  if (dx * dx + dy * dy >= (ra + rb) * (ra + rb)) return 0.f;  // circumcircles apart
-  Pt pa[4], pb[4];
-  corners(a, pa);
-  corners(b, pb);
+  const float dx = qa.cx - qb.cx, dy = qa.cy - qb.cy;
+  if (dx * dx + dy * dy >= (qa.r + qb.r) * (qa.r + qb.r)) return 0.f;  // circumcircles apart
   Pt poly[16], next[16];
   int n = 4;
-  for (int i = 0; i < 4; ++i) poly[i] = pa[i];
+  for (int i = 0; i < 4; ++i) poly[i] = qa.p[i];
+  const Pt *pb = qb.p;
   const float orient = cross(pb[0], pb[1], pb[2]) >= 0 ? 1.f : -1.f;
   for (int e = 0; e < 4 && n > 0; ++e) {
     const Pt s = pb[e], t = pb[(e + 1) % 4];
@@ -142,7 +154,8 @@ float iou_oriented(const Cand &a, const Cand &b) {
   }
   if (n < 3) return 0.f;
   float area2 = 0;
-  for (int i = 0; i < n; ++i) area2 += poly[i].x * poly[(i + 1) % n].y - poly[(i + 1) % n].x * poly[i].y;
+  for (int i = 0; i < n; ++i)
+    area2 += poly[i].x * poly[(i + 1) % n].y - poly[(i + 1) % n].x * poly[i].y;
   const float inter = std::fabs(area2) / 2;
   const float uni = a.w * a.h + b.w * b.h - inter;
   return uni > 0 ? inter / uni : 0.f;
@@ -179,12 +192,19 @@ class YoloScheme : public Scheme {
       return a.score > b.score || (a.score == b.score && a.order < b.order);
     });
     std::size_t kept = 0;
+    if (oriented) {
+      quad_.clear();
+      for (const Cand &c : cand_) quad_.push_back(quad_of(c));
+    }
     for (std::size_t i = 0; i < cand_.size(); ++i) {
       bool drop = false;
       for (std::size_t k = 0; k < kept && !drop; ++k)
-        drop = (oriented ? iou_oriented(cand_[k], cand_[i]) : iou_aligned(cand_[k], cand_[i])) >
-               iou_;
-      if (!drop) cand_[kept++] = cand_[i];
+        drop = (oriented ? iou_oriented(cand_[k], quad_[k], cand_[i], quad_[i])
+                         : iou_aligned(cand_[k], cand_[i])) > iou_;
+      if (!drop) {
+        if (oriented) quad_[kept] = quad_[i];
+        cand_[kept++] = cand_[i];
+      }
     }
     for (std::size_t i = 0; i < kept; ++i) {
       const Cand &c = cand_[i];
@@ -227,6 +247,7 @@ class YoloScheme : public Scheme {
   std::vector<uint32_t> idx_;  // reused per frame
   std::vector<float> best_;
   std::vector<Cand> cand_;
+  std::vector<Quad> quad_;
 };
 
 // yolov5: 5+#classes : 3*A : 1, box-major.
