@@ -18,9 +18,10 @@
 namespace {
 
 std::vector<float> load(const std::string &name) {
-  const std::string path =
-      std::string(NNS_SOURCE_DIR) + "/../shared/models/upstream/decoder/"
-                                    "nnstreamer_decoder_boundingbox/" + name;
+  const std::string path = std::string(NNS_SOURCE_DIR) +
+                           "/../shared/models/upstream/decoder/"
+                           "nnstreamer_decoder_boundingbox/" +
+                           name;
   std::ifstream f(path, std::ios::binary);
   std::vector<char> b((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   std::vector<float> v(b.size() / sizeof(float));
@@ -98,10 +99,10 @@ void run_scalar_reference(const char *label, const std::vector<float> &d, std::s
 
 int main(int argc, char **argv) {
   const double secs = argc > 1 ? std::atof(argv[1]) : 0.5;
-  const auto v8 = load("yolov8_decoder_input.raw");  // 2100 boxes x 84
-  const auto v5 = load("yolov5_decoder_input.raw");  // 6300 x 85
+  const auto v8 = load("yolov8_decoder_input.raw");       // 2100 boxes x 84
+  const auto v5 = load("yolov5_decoder_input.raw");       // 6300 x 85
   const auto obb = load("yolov8_obb_decoder_input.raw");  // 8400 x 20
-  const auto v10 = load("yolov10_decoder_input.raw");  // 300 x 6
+  const auto v10 = load("yolov10_decoder_input.raw");     // 300 x 6
   if (v8.size() != 2100 * 84 || v5.size() != 6300 * 85 || obb.size() != 8400 * 20) {
     std::fprintf(stderr, "bbox_yolo_bench: ../shared/models decoder inputs not found\n");
     return 1;
@@ -114,10 +115,10 @@ int main(int argc, char **argv) {
       secs);
   run("yolov8 captured, model layout", "yolov8", "0:0.25:0.45", "2100:84:1", 320, 320, 80,
       transpose(v8, 2100, 84), secs);
-  run("yolov8 8400 (captured x4), upstream layout", "yolov8", "0:0.25:0.45", "84:8400:1", 640,
-      640, 80, v8x4, secs);
-  run("yolov8 8400 (captured x4), model layout", "yolov8", "0:0.25:0.45", "8400:84:1", 640, 640,
-      80, transpose(v8x4, 8400, 84), secs);
+  run("yolov8 8400 (captured x4), upstream layout", "yolov8", "0:0.25:0.45", "84:8400:1", 640, 640,
+      80, v8x4, secs);
+  run("yolov8 8400 (captured x4), model layout", "yolov8", "0:0.25:0.45", "8400:84:1", 640, 640, 80,
+      transpose(v8x4, 8400, 84), secs);
   run_scalar_reference("scalar argmax of every box, 2100", v8, 2100, 84, secs);
   run_scalar_reference("scalar argmax of every box, 8400", v8x4, 8400, 84, secs);
   run("yolov5 captured", "yolov5", "0:0.25:0.45", "85:6300:1", 320, 320, 80, v5, secs);

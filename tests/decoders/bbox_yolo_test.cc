@@ -32,7 +32,8 @@ std::vector<T> load(const std::string &name) {
   return v;
 }
 
-nns::TensorsInfo info_of(const std::string &dims, nns::TensorType type = nns::TensorType::kFloat32) {
+nns::TensorsInfo info_of(const std::string &dims,
+                         nns::TensorType type = nns::TensorType::kFloat32) {
   nns::TensorsInfo in;
   nns::TensorInfo t;
   t.type = type;
@@ -48,7 +49,7 @@ struct Decoding {
 };
 
 Decoding prepare(const std::string &name, const std::string &option3, const std::string &dims,
-            unsigned in_w, unsigned in_h, std::size_t labels) {
+                 unsigned in_w, unsigned in_h, std::size_t labels) {
   Decoding r{nns::bbox::schemes().make(name), info_of(dims), {}};
   EXPECT_TRUE(r.scheme) << name;
   r.ctx.in_w = in_w;
@@ -149,7 +150,8 @@ std::vector<Found> match_axis_aligned(const std::vector<Box> &boxes, const Mask 
           }
     const bool ok = best >= 0.9;
     if (ok) found.push_back(at);
-    EXPECT_TRUE(ok) << "best outline fraction " << best << ": " << "no golden outline within 1 px of box x=" << b.x << " y=" << b.y
+    EXPECT_TRUE(ok) << "best outline fraction " << best << ": "
+                    << "no golden outline within 1 px of box x=" << b.x << " y=" << b.y
                     << " w=" << b.w << " h=" << b.h << " class=" << b.class_id;
   }
   int unexplained = 0;
@@ -202,24 +204,24 @@ void dump(const std::vector<Box> &v) {
 
 TEST(BboxYolo, Yolov5MatchesGolden) {
   NNS_REQUIRE_SHARED_MODELS();
-  const auto boxes = decode_file("yolov5", "0:0.25:0.45", "85:6300:1", 320, 320, 80,
-                                 "yolov5_decoder_input.raw");
+  const auto boxes =
+      decode_file("yolov5", "0:0.25:0.45", "85:6300:1", 320, 320, 80, "yolov5_decoder_input.raw");
   dump(boxes);
   match_axis_aligned(boxes, golden("yolov5_result_golden.raw", 320, 320), 320, 320);
 }
 
 TEST(BboxYolo, Yolov8MatchesGolden) {
   NNS_REQUIRE_SHARED_MODELS();
-  const auto boxes = decode_file("yolov8", "0:0.25:0.45", "84:2100:1", 320, 320, 80,
-                                 "yolov8_decoder_input.raw");
+  const auto boxes =
+      decode_file("yolov8", "0:0.25:0.45", "84:2100:1", 320, 320, 80, "yolov8_decoder_input.raw");
   dump(boxes);
   match_axis_aligned(boxes, golden("yolov8_result_golden.raw", 320, 320), 320, 320);
 }
 
 TEST(BboxYolo, Yolov10MatchesGolden) {
   NNS_REQUIRE_SHARED_MODELS();
-  const auto boxes = decode_file("yolov10", "0:0.25", "6:300:1", 320, 320, 80,
-                                 "yolov10_decoder_input.raw");
+  const auto boxes =
+      decode_file("yolov10", "0:0.25", "6:300:1", 320, 320, 80, "yolov10_decoder_input.raw");
   dump(boxes);
   match_axis_aligned(boxes, golden("yolov10_result_golden.raw", 320, 320), 320, 320);
 }
@@ -270,15 +272,15 @@ TEST(BboxYolo, Yolov8ObbMatchesGolden) {
 TEST(BboxYolo, GoldenClassesReadOffTheFrames) {
   NNS_REQUIRE_SHARED_MODELS();
   // coco-80.txt: 0 person, 5 bus, 16 dog.
-  expect_classes(decode_file("yolov5", "0:0.25:0.45", "85:6300:1", 320, 320, 80,
-                             "yolov5_decoder_input.raw"),
-                 {{43, 67, 5}, {54, 116, 0}, {105, 119, 0}, {240, 111, 0}});
-  expect_classes(decode_file("yolov8", "0:0.25:0.45", "84:2100:1", 320, 320, 80,
-                             "yolov8_decoder_input.raw"),
-                 {{5, 13, 16}, {99, 0, 0}, {126, 34, 16}});
-  expect_classes(decode_file("yolov10", "0:0.25", "6:300:1", 320, 320, 80,
-                             "yolov10_decoder_input.raw"),
-                 {{2, 68, 5}, {20, 116, 0}, {0, 162, 0}, {89, 120, 0}, {264, 118, 0}});
+  expect_classes(
+      decode_file("yolov5", "0:0.25:0.45", "85:6300:1", 320, 320, 80, "yolov5_decoder_input.raw"),
+      {{43, 67, 5}, {54, 116, 0}, {105, 119, 0}, {240, 111, 0}});
+  expect_classes(
+      decode_file("yolov8", "0:0.25:0.45", "84:2100:1", 320, 320, 80, "yolov8_decoder_input.raw"),
+      {{5, 13, 16}, {99, 0, 0}, {126, 34, 16}});
+  expect_classes(
+      decode_file("yolov10", "0:0.25", "6:300:1", 320, 320, 80, "yolov10_decoder_input.raw"),
+      {{2, 68, 5}, {20, 116, 0}, {0, 162, 0}, {89, 120, 0}, {264, 118, 0}});
 }
 
 // ---- layouts ----------------------------------------------------------------------------------

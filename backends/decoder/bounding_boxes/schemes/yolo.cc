@@ -68,7 +68,9 @@ uint32_t anchors(unsigned w, unsigned h) {
   return (w / 32) * (h / 32) + (w / 16) * (h / 16) + (w / 8) * (h / 8);
 }
 
-uint32_t dim(const TensorInfo &t, std::size_t i) { return t.dims[i] == 0 ? 1 : t.dims[i]; }
+uint32_t dim(const TensorInfo &t, std::size_t i) {
+  return t.dims[i] == 0 ? 1 : t.dims[i];
+}
 
 bool rank2(const TensorInfo &t) {
   for (std::size_t i = 2; i < t.dims.size(); ++i)
@@ -109,7 +111,9 @@ void corners(const Cand &c, Pt p[4]) {
   p[3] = {cx - ux + vx, cy - uy + vy};
 }
 
-float cross(Pt o, Pt a, Pt b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
+float cross(Pt o, Pt a, Pt b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
 
 // Geometry of an oriented candidate, computed once per frame before NMS.
 struct Quad {
@@ -221,8 +225,8 @@ class YoloScheme : public Scheme {
 
   // Centre/size box (0..1 unless scaled_) to a candidate, clamped as upstream for axis-aligned
   // boxes: top-left at >= 0, size <= the model input.
-  void push(float cx, float cy, float w, float h, float angle, float score, int cls,
-            uint32_t order, const Context &ctx, bool clamp) {
+  void push(float cx, float cy, float w, float h, float angle, float score, int cls, uint32_t order,
+            const Context &ctx, bool clamp) {
     const float iw = static_cast<float>(ctx.in_w), ih = static_cast<float>(ctx.in_h);
     if (!scaled_) {
       cx *= iw;
@@ -269,8 +273,8 @@ class YoloV5 final : public YoloScheme {
 
   void check_input(const TensorsInfo &in, const Context &ctx) override {
     const uint32_t n = 3 * anchors(ctx.in_w, ctx.in_h);
-    const std::string what = ctx.num_labels > 0 ? std::to_string(ctx.num_labels + 5)
-                                                : std::string("5+#classes");
+    const std::string what =
+        ctx.num_labels > 0 ? std::to_string(ctx.num_labels + 5) : std::string("5+#classes");
     const std::string expected = "float32 " + what + ":" + std::to_string(n) +
                                  ":1 (5+#classes : 3*anchors, for option5 " +
                                  std::to_string(ctx.in_w) + ":" + std::to_string(ctx.in_h) + ")";
@@ -330,8 +334,7 @@ class YoloV8 final : public YoloScheme {
     if (f.size() > 0 && !f[0].empty()) scaled_ = parse_flag(name_, grammar_, 1, "scaled", f[0]);
     if (f.size() > 1 && !f[1].empty()) conf_ = parse_unit(name_, grammar_, 2, "conf", f[1]);
     if (f.size() > 2 && !f[2].empty()) iou_ = parse_unit(name_, grammar_, 3, "iou", f[2]);
-    if (f.size() > 3 && !f[3].empty())
-      oriented_ = parse_flag(name_, grammar_, 4, "oriented", f[3]);
+    if (f.size() > 3 && !f[3].empty()) oriented_ = parse_flag(name_, grammar_, 4, "oriented", f[3]);
   }
 
   // Layout rule: with option2 labels, C = #labels + 4 (+1): C:A is box-major (upstream), A:C is
