@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Drawing on an RGBA frame for tensor_decoder mode=bounding_boxes: axis-aligned rectangles
+// the way NNStreamer draws them (1 px, inclusive corners), lines (rotated boxes), and label
+// text in our own 5x7 bitmap font placed in NNStreamer's 8x13 character cells (9 px
+// advance), so labels occupy the same area as upstream's.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace nns::bbox {
+
+struct Canvas {
+  uint32_t *px = nullptr;  // width * height RGBA pixels (byte order R, G, B, A)
+  int width = 0, height = 0;
+};
+
+// Opaque red, as NNStreamer draws boxes (R=255, G=0, B=0, A=255 in memory order).
+uint32_t box_colour();
+
+// Rectangle with corners (x1, y1) and (x2, y2) inclusive; clipped to the canvas.
+void draw_rect(Canvas &c, int x1, int y1, int x2, int y2, uint32_t colour);
+// Line between two points (Bresenham), clipped per pixel.
+void draw_line(Canvas &c, int x0, int y0, int x1, int y1, uint32_t colour);
+// Text with its top-left cell corner at (x, y); characters that would cross the right edge
+// are not drawn. Lower-case letters are drawn as capitals; unknown characters as a box.
+void draw_text(Canvas &c, int x, int y, std::string_view text, uint32_t colour);
+
+inline constexpr int kCellW = 8, kCellH = 13, kAdvance = 9;
+
+}  // namespace nns::bbox

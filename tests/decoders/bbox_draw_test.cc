@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Drawing and tracking helpers of tensor_decoder mode=bounding_boxes (nns_bbox).
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "draw.h"
+#include "tracker.h"
+
+using nns::bbox::Box;
+using nns::bbox::Canvas;
+
+namespace {
+struct Frame {
+  std::vector<uint32_t> px;
+  Canvas c;
+  Frame(int w, int h) : px(static_cast<std::size_t>(w) * h, 0), c{px.data(), w, h} {}
+  bool on(int x, int y) const { return px[static_cast<std::size_t>(y) * c.width + x] != 0; }
+  int count() const {
+    int n = 0;
+    for (auto v : px) n += v != 0;
+    return n;
+  }
+};
+Box box(float x, float y, float w, float h) {
+  Box b;
+  b.x = x, b.y = y, b.w = w, b.h = h;
+  return b;
+}
+}  // namespace
+
+TEST(BboxDraw, RectangleIsOnePixelOutline) {
+  Frame f(20, 10);
+  nns::bbox::draw_rect(f.c, 2, 1, 7, 5, nns::bbox::box_colour());
+  EXPECT_TRUE(f.on(2, 1) && f.on(7, 1) && f.on(2, 5) && f.on(7, 5) && f.on(2, 3) && f.on(7, 3));
+  EXPECT_FALSE(f.on(4, 3));
+  EXPECT_EQ(f.count(), 6 * 2 + 3 * 2);
+  const auto *rgba = reinterpret_cast<const uint8_t *>(&f.px[1 * 20 + 2]);
+  EXPECT_EQ(rgba[0], 255);
+  EXPECT_EQ(rgba[1], 0);
+  EXPECT_EQ(rgba[2], 0);
+  EXPECT_EQ(rgba[3], 255);
+}
+
+TEST(BboxDraw, RectangleClipsToCanvas) {
+  Frame f(10, 10);
+  nns::bbox::draw_rect(f.c, -5, -5, 50, 50, 1);
+  EXPECT_TRUE(f.on(0, 0) && f.on(9, 9) && f.on(0, 9) && f.on(9, 0));
+  EXPECT_EQ(f.count(), 36);
+}
+
+TEST(BboxDraw, LineReachesBothEnds) {
+  Frame f(20, 20);
+  nns::bbox::draw_line(f.c, 1, 2, 15, 9, 1);
+  EXPECT_TRUE(f.on(1, 2));
+  EXPECT_TRUE(f.on(15, 9));
+  EXPECT_EQ(f.count(), 15);  // one pixel per column of the longer axis
+  nns::bbox::draw_line(f.c, -10, -10, 30, 30, 1);  // clipped, no crash
+  EXPECT_TRUE(f.on(19, 19));
+}
+
+TEST(BboxDraw, TextStaysInCellsAndStopsAtEdge) {
+  Frame f(30, 20);
+  nns::bbox::draw_text(f.c, 0, 0, "tv", 1);
+  int inside = 0;
+  for (int y = 0; y < 13; ++y)
+    for (int x = 0; x < 17; ++x) inside += f.on(x, y);
+  EXPECT_EQ(inside, f.count());
+  EXPECT_GT(inside, 10);
+  Frame g(30, 20);
+  nns::bbox::draw_text(g.c, 0, 0, "person", 1);  // only 3 cells fit in 30 px
+  for (int y = 0; y < 20; ++y)
+    for (int x = 26; x < 30; ++x) EXPECT_FALSE(g.on(x, y));
+}
+
+TEST(BboxTracker, IdsFollowNearestCentroid) {
+  nns::bbox::CentroidTracker t;
+  std::vector<Box> a{box(0, 0, 10, 10), box(100, 100, 10, 10)};
+  t.update(a);
+  EXPECT_EQ(a[0].track_id, 1);
+  EXPECT_EQ(a[1].track_id, 2);
+  std::vector<Box> b{box(98, 101, 10, 10), box(200, 0, 10, 10), box(2, 1, 10, 10)};
+  t.update(b);
+  EXPECT_EQ(b[0].track_id, 2);
+  EXPECT_EQ(b[1].track_id, 3);
+  EXPECT_EQ(b[2].track_id, 1);
+  std::vector<Box> none;
+  t.update(none);
+  std::vector<Box> c{box(1, 1, 10, 10)};
+  t.update(c);
+  EXPECT_EQ(c[0].track_id, 1);
+}

@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Helpers of the bounding_boxes / tensor_region tests: run a pipeline ending in
+// "appsink name=out" and collect each frame with its ROI metas and JSON meta; compare a frame
+// with an upstream reference frame.
+#pragma once
+
+#include <gst/app/gstappsink.h>
+#include <gst/gst.h>
+#include <gst/video/gstvideometa.h>
+
+#include <cstdint>
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "support/harness.h"
+
+namespace nns::test::bbox {
+
+struct Roi {
+  std::string type, label;
+  int x = 0, y = 0, w = 0, h = 0, id = 0, class_id = -1, track_id = 0;
+  double score = 0, angle = 0;
+  std::vector<double> keypoints;
+};
+
+struct Frame {
+  std::vector<uint8_t> data;
+  std::vector<Roi> rois;
+  std::string json;
+  bool has_json = false;
+};
+
+struct Collected {
+  std::vector<Frame> frames;
+  bool eos = false;
+  std::string error;
+};
+
+inline Roi roi_of(GstVideoRegionOfInterestMeta *m) {
+  Roi r;
+  r.type = g_quark_to_string(m->roi_type);
+  r.x = static_cast<int>(m->x), r.y = static_cast<int>(m->y);
+  r.w = static_cast<int>(m->w), r.h = static_cast<int>(m->h), r.id = m->id;
+  if (const GstStructure *s = gst_video_region_of_interest_meta_get_param(m, "detection")) {
+    if (const char *l = gst_structure_get_string(s, "label")) r.label = l;
+    gst_structure_get_int(s, "class-id", &r.class_id);
+    gst_structure_get_int(s, "track-id", &r.track_id);
+    gst_structure_get_double(s, "score", &r.score);
+    gst_structure_get_double(s, "angle", &r.angle);
+    if (const GValue *kp = gst_structure_get_value(s, "keypoints"))
+      for (guint i = 0; i < gst_value_array_get_size(kp); ++i)
+        r.keypoints.push_back(g_value_get_double(gst_value_array_get_value(kp, i)));
+  }
+  return r;
+}
+
+// Runs `desc` (must contain "appsink name=out") to EOS or error, in folder `cwd` if given.
+inline Collected collect(const std::string &desc, const std::string &cwd = {},
+                         double timeout_s = 20) {
+  Collected c;
+  const auto old = std::filesystem::current_path();
+  if (!cwd.empty()) std::filesystem::current_path(cwd);
+  GError *err = nullptr;
+  GstElement *pipe = gst_parse_launch(desc.c_str(), &err);
+  if (!cwd.empty() && !pipe) std::filesystem::current_path(old);
+  if (!pipe) {
+    c.error = err ? err->message : "parse failed";
+    g_clear_error(&err);
+    return c;
+  }
+  g_clear_error(&err);
+  GstElement *sink = gst_bin_get_by_name(GST_BIN(pipe), "out");
+  if (sink) g_object_set(sink, "sync", FALSE, nullptr);
+  gst_element_set_state(pipe, GST_STATE_PLAYING);
+  GstBus *bus = gst_element_get_bus(pipe);
+  const gint64 end = g_get_monotonic_time() + static_cast<gint64>(timeout_s * 1e6);
+  while (g_get_monotonic_time() < end) {
+    if (sink) {
+      GstSample *smp = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 10 * GST_MSECOND);
+      if (smp) {
+        Frame f;
+        GstBuffer *b = gst_sample_get_buffer(smp);
+        GstMapInfo map;
+        if (gst_buffer_map(b, &map, GST_MAP_READ)) {
+          f.data.assign(map.data, map.data + map.size);
+          gst_buffer_unmap(b, &map);
+        }
+        gpointer state = nullptr;
+        while (GstMeta *m = gst_buffer_iterate_meta_filtered(
+                   b, &state, GST_VIDEO_REGION_OF_INTEREST_META_API_TYPE))
+          f.rois.push_back(roi_of(reinterpret_cast<GstVideoRegionOfInterestMeta *>(m)));
+        if (GstCustomMeta *cm = gst_buffer_get_custom_meta(b, "NnsDetectionsMeta")) {
+          f.has_json = true;
+          if (const char *j = gst_structure_get_string(gst_custom_meta_get_structure(cm), "json"))
+            f.json = j;
+        }
+        c.frames.push_back(std::move(f));
+        gst_sample_unref(smp);
+        continue;
+      }
+    }
+    GstMessage *msg = gst_bus_timed_pop_filtered(
+        bus, sink ? 0 : 10 * GST_MSECOND,
+        static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+    if (!msg) continue;
+    if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
+      GError *e = nullptr;
+      gchar *dbg = nullptr;
+      gst_message_parse_error(msg, &e, &dbg);
+      c.error = std::string(e ? e->message : "") + " | " + (dbg ? dbg : "");
+      g_clear_error(&e);
+      g_free(dbg);
+      gst_message_unref(msg);
+      break;
+    }
+    gst_message_unref(msg);
+    // EOS: drain what the sink still holds.
+    while (sink) {
+      GstSample *smp = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 0);
+      if (!smp) break;
+      Frame f;
+      GstBuffer *b = gst_sample_get_buffer(smp);
+      GstMapInfo map;
+      if (gst_buffer_map(b, &map, GST_MAP_READ)) {
+        f.data.assign(map.data, map.data + map.size);
+        gst_buffer_unmap(b, &map);
+      }
+      gpointer state = nullptr;
+      while (GstMeta *m = gst_buffer_iterate_meta_filtered(
+                 b, &state, GST_VIDEO_REGION_OF_INTEREST_META_API_TYPE))
+        f.rois.push_back(roi_of(reinterpret_cast<GstVideoRegionOfInterestMeta *>(m)));
+      c.frames.push_back(std::move(f));
+      gst_sample_unref(smp);
+    }
+    c.eos = true;
+    break;
+  }
+  gst_object_unref(bus);
+  if (sink) gst_object_unref(sink);
+  gst_element_set_state(pipe, GST_STATE_NULL);
+  gst_object_unref(pipe);
+  if (!cwd.empty()) std::filesystem::current_path(old);
+  return c;
+}
+
+struct Rect {
+  int x, y, w, h;
+};
+
+// Label text cells above each ROI, as the decoder places them (8x13 cells, 9 px advance,
+// 14 px above the box); `extra` widens each area by that many pixels on every side.
+inline std::vector<Rect> text_areas(const std::vector<Roi> &rois, int extra = 1) {
+  std::vector<Rect> v;
+  for (const auto &r : rois) {
+    if (r.label.empty()) continue;
+    const int y = std::max(0, r.y - 14);
+    v.push_back({r.x - extra, y - extra, static_cast<int>(r.label.size()) * 9 + 2 * extra,
+                 13 + 2 * extra});
+  }
+  return v;
+}
+
+// Compares `ours` (RGBA) with a reference frame (BGRx bytes when `golden_bgrx`, else RGBA) of
+// size w x h. Box pixels are opaque red. Pixels inside `skip` are ignored. Returns "" when
+// every reference box pixel has one of ours within 1 px and vice versa.
+inline std::string compare_boxes(const std::vector<uint8_t> &ours,
+                                 const std::vector<uint8_t> &golden, bool golden_bgrx, int w,
+                                 int h, const std::vector<Rect> &skip) {
+  const std::size_t n = static_cast<std::size_t>(w) * h * 4;
+  if (ours.size() != n || golden.size() != n)
+    return "frame sizes differ: ours " + std::to_string(ours.size()) + ", reference " +
+           std::to_string(golden.size()) + ", expected " + std::to_string(n);
+  auto red_ours = [&](int x, int y) {
+    const uint8_t *p = &ours[(static_cast<std::size_t>(y) * w + x) * 4];
+    return p[0] == 255 && p[1] == 0 && p[2] == 0 && p[3] == 255;
+  };
+  auto red_gold = [&](int x, int y) {
+    const uint8_t *p = &golden[(static_cast<std::size_t>(y) * w + x) * 4];
+    return golden_bgrx ? (p[2] == 255 && p[1] == 0 && p[0] == 0) : (p[0] == 255 && p[1] == 0 &&
+                                                                     p[2] == 0 && p[3] == 255);
+  };
+  auto skipped = [&](int x, int y) {
+    for (const auto &r : skip)
+      if (x >= r.x && x < r.x + r.w && y >= r.y && y < r.y + r.h) return true;
+    return false;
+  };
+  auto near = [&](auto &&red, int x, int y) {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx, yy = y + dy;
+        if (xx >= 0 && yy >= 0 && xx < w && yy < h && red(xx, yy)) return true;
+      }
+    return false;
+  };
+  std::string out;
+  int bad = 0, checked = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (skipped(x, y)) continue;
+      if (red_gold(x, y)) {
+        ++checked;
+        if (!near(red_ours, x, y) && bad++ < 5)
+          out += "reference box pixel (" + std::to_string(x) + "," + std::to_string(y) +
+                 ") has none of ours within 1 px; ";
+      }
+      if (red_ours(x, y) && !near(red_gold, x, y) && bad++ < 5)
+        out += "our box pixel (" + std::to_string(x) + "," + std::to_string(y) +
+               ") has no reference pixel within 1 px; ";
+    }
+  if (checked == 0) out += "the reference frame has no box pixels outside the text areas";
+  return out;
+}
+
+}  // namespace nns::test::bbox
