@@ -54,7 +54,7 @@ TEST(BboxDraw, LineReachesBothEnds) {
   nns::bbox::draw_line(f.c, 1, 2, 15, 9, 1);
   EXPECT_TRUE(f.on(1, 2));
   EXPECT_TRUE(f.on(15, 9));
-  EXPECT_EQ(f.count(), 15);  // one pixel per column of the longer axis
+  EXPECT_EQ(f.count(), 15);                        // one pixel per column of the longer axis
   nns::bbox::draw_line(f.c, -10, -10, 30, 30, 1);  // clipped, no crash
   EXPECT_TRUE(f.on(19, 19));
 }

@@ -124,14 +124,14 @@ TEST(BboxPipeline, MalformedPriorsFile) {
     std::ofstream g(dir + "/short_priors.txt");
     g << "0.1 0.2\n0.1 x\n";
   }
-  auto e = error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt option3=" + dir +
-                        "/bad_priors.txt"));
-  EXPECT_NE(e.find("is not consistent: line 1 has 3 values, line 2 has 2"), std::string::npos)
-      << e;
+  auto e = error_of(
+      ssd("option1=mobilenet-ssd option2=coco_labels_list.txt option3=" + dir + "/bad_priors.txt"));
+  EXPECT_NE(e.find("is not consistent: line 1 has 3 values, line 2 has 2"), std::string::npos) << e;
   e = error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt option3=" + dir +
                    "/short_priors.txt"));
   EXPECT_NE(e.find("'x' is not a number"), std::string::npos) << e;
-  e = error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt "
+  e =
+      error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt "
                    "option3=box_priors.txt:abc"));
   EXPECT_NE(e.find("det_thr (field 2) must be a number, got 'abc'"), std::string::npos) << e;
   std::filesystem::remove_all(dir);
@@ -154,10 +154,10 @@ TEST(BboxPipeline, LabelFileMissingOrShort) {
   NNS_REQUIRE_SHARED_MODELS();
   auto e = error_of(ssd("option1=mobilenet-ssd option2=no_labels.txt option3=box_priors.txt"));
   EXPECT_NE(e.find("option2: cannot read label file 'no_labels.txt'"), std::string::npos) << e;
-  e = error_of(ssd("option1=mobilenet-ssd option2=coco-80.txt option3=box_priors.txt "
+  e =
+      error_of(ssd("option1=mobilenet-ssd option2=coco-80.txt option3=box_priors.txt "
                    "option4=160:120"));
-  EXPECT_NE(e.find("the input has 91 classes but option2 gives 80 labels"), std::string::npos)
-      << e;
+  EXPECT_NE(e.find("the input has 91 classes but option2 gives 80 labels"), std::string::npos) << e;
 }
 
 TEST(BboxPipeline, BadSizes) {
@@ -176,26 +176,24 @@ TEST(BboxPipeline, TensorsNotFittingScheme) {
   auto e = error_of(
       "multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 stop-index=0 "
       "caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 input-type=float32 "
-      "! tensor_decoder mode=bounding_boxes " + kSsdOpts + " ! appsink name=out");
-  EXPECT_NE(e.find("scheme mobilenet-ssd expects 2 tensors of one type"), std::string::npos)
-      << e;
+      "! tensor_decoder mode=bounding_boxes " +
+      kSsdOpts + " ! appsink name=out");
+  EXPECT_NE(e.find("scheme mobilenet-ssd expects 2 tensors of one type"), std::string::npos) << e;
   // Wrong dims for the SSD boxes.
-  e = error_of(
-      "tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
-      " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
-      "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=2:2:1917:1 "
-      "input-type=float32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
-      "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
-      "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
+  e = error_of("tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
+               " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
+               "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=2:2:1917:1 "
+               "input-type=float32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
+               "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
+               "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
   EXPECT_NE(e.find("(tensor 0 must be 4:1:N)"), std::string::npos) << e;
   // Types differ.
-  e = error_of(
-      "tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
-      " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
-      "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 "
-      "input-type=int32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
-      "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
-      "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
+  e = error_of("tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
+               " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
+               "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 "
+               "input-type=int32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
+               "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
+               "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
   EXPECT_NE(e.find("(types differ)"), std::string::npos) << e;
   // Palm: scores tensor of another N.
   e = error_of(

@@ -147,8 +147,7 @@ int bb_set_option(void **pdata, int op, const char *param) {
     case 3:
       if (p.empty()) return TRUE;
       if (!parse_wh(param, d->out_w, d->out_h)) {
-        d->err.set("option4: output size must be WIDTH:HEIGHT (e.g. 640:480), got '%s'",
-                   p.c_str());
+        d->err.set("option4: output size must be WIDTH:HEIGHT (e.g. 640:480), got '%s'", p.c_str());
         return FALSE;
       }
       return TRUE;
@@ -240,8 +239,8 @@ void log_boxes(BBox *d) {
   for (const auto &o : d->out_boxes) {
     const Box &b = *o.box;
     std::string head = o.label ? "[" + *o.label + "] " : "";
-    std::printf("%sx:%d y:%d w:%d h:%d", head.c_str(), static_cast<int>(b.x),
-                static_cast<int>(b.y), static_cast<int>(b.w), static_cast<int>(b.h));
+    std::printf("%sx:%d y:%d w:%d h:%d", head.c_str(), static_cast<int>(b.x), static_cast<int>(b.y),
+                static_cast<int>(b.w), static_cast<int>(b.h));
     if (b.angle != 0) std::printf(" angle:%.2f", static_cast<double>(b.angle));
     std::printf(" prob:%.4f", static_cast<double>(b.score));
     if (b.track_id) std::printf(" id:%d", b.track_id);
@@ -265,8 +264,8 @@ void draw_box(BBox *d, nns::bbox::Canvas &cv, nns::bbox::OutBox &o) {
       px[k] = static_cast<int>(W * (cx + dx[k] * c - dy[k] * s) / iw);
       py[k] = static_cast<int>(H * (cy + dx[k] * s + dy[k] * c) / ih);
     }
-    for (int k = 0; k < 4; ++k) nns::bbox::draw_line(cv, px[k], py[k], px[(k + 1) % 4],
-                                                     py[(k + 1) % 4], colour);
+    for (int k = 0; k < 4; ++k)
+      nns::bbox::draw_line(cv, px[k], py[k], px[(k + 1) % 4], py[(k + 1) % 4], colour);
     int minx = *std::min_element(px, px + 4), maxx = *std::max_element(px, px + 4);
     int miny = *std::min_element(py, py + 4), maxy = *std::max_element(py, py + 4);
     o.x = std::max(0, minx), o.y = std::max(0, miny);
