@@ -99,3 +99,24 @@ TEST(TensorRegion, Errors) {
   EXPECT_NE(c.error.find("option4: input video size must be WIDTH:HEIGHT"), std::string::npos)
       << c.error;
 }
+
+// Upstream's second case: more regions than detections; the zero slots make tensor_crop crop
+// the whole 300x300 frame, so the output holds at least two whole-frame crops.
+TEST(TensorRegion, ZeroSlotsCropWholeFrame) {
+  NNS_REQUIRE_SHARED_MODELS();
+  const std::string photo = nns::test::shared_models_dir() + "/data/orange.png";
+  auto c = collect("filesrc location=" + photo +
+                       " ! pngdec ! videoconvert ! videoscale ! "
+                       "video/x-raw,width=300,height=300,format=RGB,framerate=0/1 ! "
+                       "tensor_converter ! crop.raw tensor_mux name=mux ! "
+                       "other/tensors,format=static ! tensor_decoder mode=tensor_region option1=3" +
+                       kLabelsPriors +
+                       " ! crop.info tensor_crop name=crop ! other/tensors,format=flexible ! "
+                       "appsink name=out" +
+                       inputs(),
+                   dir());
+  ASSERT_TRUE(c.error.empty()) << c.error;
+  std::size_t total = 0;
+  for (const auto &f : c.frames) total += f.data.size();
+  EXPECT_GE(total, 2u * (128 + 300 * 300 * 3));
+}
