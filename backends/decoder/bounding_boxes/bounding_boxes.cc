@@ -256,7 +256,11 @@ void draw_box(BBox *d, nns::bbox::Canvas &cv, nns::bbox::OutBox &o) {
   o.x = p.x, o.y = p.y, o.w = p.w, o.h = p.h;
   if (o.label && b.angle == 0) {  // as NNStreamer: rotated boxes get no label text
     d->text = *o.label;
-    if (d->track) d->text += "-" + std::to_string(b.track_id);
+    if (d->track) {
+      char id[16];
+      std::snprintf(id, sizeof id, "-%d", b.track_id);
+      d->text += id;
+    }
     nns::bbox::draw_text(cv, o.x, std::max(0, o.y - 14), d->text, colour);
   }
 }
