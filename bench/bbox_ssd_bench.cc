@@ -62,11 +62,11 @@ int main(int argc, char **argv) {
     scheme->decode(v, ctx, out);
     total += out.size();
   }
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = cpu_seconds() - c0;
-  std::printf("bbox_ssd_bench: mobilenet-ssd 1917 priors x 91 classes, %d frames, %.2f boxes/frame\n",
-              iters, static_cast<double>(total) / iters);
+  std::printf(
+      "bbox_ssd_bench: mobilenet-ssd 1917 priors x 91 classes, %d frames, %.2f boxes/frame\n",
+      iters, static_cast<double>(total) / iters);
   std::printf("  cpu %.1f us/frame, wall %.1f us/frame\n", cpu / iters * 1e6, wall / iters * 1e6);
   return 0;
 }

@@ -54,7 +54,7 @@ TEST(BboxDraw, LineReachesBothEnds) {
   nns::bbox::draw_line(f.c, 1, 2, 15, 9, 1);
   EXPECT_TRUE(f.on(1, 2));
   EXPECT_TRUE(f.on(15, 9));
-  EXPECT_EQ(f.count(), 15);  // one pixel per column of the longer axis
+  EXPECT_EQ(f.count(), 15);                        // one pixel per column of the longer axis
   nns::bbox::draw_line(f.c, -10, -10, 30, 30, 1);  // clipped, no crash
   EXPECT_TRUE(f.on(19, 19));
 }
@@ -89,4 +89,36 @@ TEST(BboxTracker, IdsFollowNearestCentroid) {
   std::vector<Box> c{box(1, 1, 10, 10)};
   t.update(c);
   EXPECT_EQ(c[0].track_id, 1);
+}
+
+TEST(BboxDraw, AxisAlignedBoxScaledLikeUpstream) {
+  Frame f(160, 120);
+  // mobilenet-ssd frame 0, first person: 300x300 input -> 160x120.
+  auto p = nns::bbox::draw_box(f.c, box(91, 174, 79, 121), 300, 300, 1);
+  EXPECT_EQ(p.x, 48);  // floor(160 * 91 / 300)
+  EXPECT_EQ(p.y, 69);  // floor(120 * 174 / 300)
+  EXPECT_EQ(p.w, 42);  // floor(160 * 170 / 300) - 48
+  EXPECT_EQ(p.h, 49);  // min(119, floor(120 * 295 / 300)) - 69
+  EXPECT_TRUE(f.on(48, 69) && f.on(90, 118));
+}
+
+TEST(BboxDraw, RotatedBoxDrawnAsFourLines) {
+  Frame f(100, 100);
+  Box b = box(30, 40, 40, 20);  // centre (50, 50)
+  b.angle = 3.14159265f / 2;    // a quarter turn: 20 wide, 40 high
+  auto p = nns::bbox::draw_box(f.c, b, 100, 100, 1);
+  EXPECT_NEAR(p.x, 40, 1);
+  EXPECT_NEAR(p.y, 30, 1);
+  EXPECT_NEAR(p.w, 20, 1);
+  EXPECT_NEAR(p.h, 40, 1);
+  EXPECT_TRUE(f.on(40, 50) || f.on(39, 50));  // left side at mid height
+  EXPECT_TRUE(f.on(60, 50) || f.on(59, 50));  // right side
+  EXPECT_FALSE(f.on(50, 50));                 // hollow
+  EXPECT_FALSE(f.on(30, 45));                 // the unrotated corner area stays empty
+  Box c = box(30, 40, 40, 20);
+  c.angle = 0.5f;
+  Frame g(100, 100);
+  nns::bbox::draw_box(g.c, c, 100, 100, 1);
+  EXPECT_GT(g.count(), 100);
+  EXPECT_FALSE(g.on(30, 40));  // the axis-aligned corner is not drawn
 }

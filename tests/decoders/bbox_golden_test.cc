@@ -50,9 +50,8 @@ std::vector<std::string> labels_of(const nns::test::bbox::Frame &f) {
 
 // Runs `decoder` (tensor_decoder ...) on `inputs` and compares both frames with
 // <golden>.0/.1; `classes[i]` are the labels seen in reference frame i, best score first.
-void check_golden(const std::string &decoder, const std::string &inputs,
-                  const std::string &golden, bool bgrx,
-                  const std::vector<std::vector<std::string>> &classes) {
+void check_golden(const std::string &decoder, const std::string &inputs, const std::string &golden,
+                  bool bgrx, const std::vector<std::vector<std::string>> &classes) {
   const std::string desc =
       "tensor_mux name=mux ! " + decoder + " ! appsink name=out sync=false" + inputs;
   auto c = collect(desc, data_dir());
@@ -144,6 +143,5 @@ TEST(BboxGolden, ComparisonDetectsOtherBoxes) {
       data_dir());
   ASSERT_EQ(c.frames.size(), 2u);
   auto ref = nns::test::read_file(data_dir() + "/mobilenetssd_postprocess_golden.0");
-  EXPECT_NE(compare_boxes(c.frames[0].data, ref, true, 160, 120, text_areas(c.frames[0].rois)),
-            "");
+  EXPECT_NE(compare_boxes(c.frames[0].data, ref, true, 160, 120, text_areas(c.frames[0].rois)), "");
 }

@@ -124,14 +124,14 @@ TEST(BboxPipeline, MalformedPriorsFile) {
     std::ofstream g(dir + "/short_priors.txt");
     g << "0.1 0.2\n0.1 x\n";
   }
-  auto e = error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt option3=" + dir +
-                        "/bad_priors.txt"));
-  EXPECT_NE(e.find("is not consistent: line 1 has 3 values, line 2 has 2"), std::string::npos)
-      << e;
+  auto e = error_of(
+      ssd("option1=mobilenet-ssd option2=coco_labels_list.txt option3=" + dir + "/bad_priors.txt"));
+  EXPECT_NE(e.find("is not consistent: line 1 has 3 values, line 2 has 2"), std::string::npos) << e;
   e = error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt option3=" + dir +
                    "/short_priors.txt"));
   EXPECT_NE(e.find("'x' is not a number"), std::string::npos) << e;
-  e = error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt "
+  e =
+      error_of(ssd("option1=mobilenet-ssd option2=coco_labels_list.txt "
                    "option3=box_priors.txt:abc"));
   EXPECT_NE(e.find("det_thr (field 2) must be a number, got 'abc'"), std::string::npos) << e;
   std::filesystem::remove_all(dir);
@@ -154,10 +154,10 @@ TEST(BboxPipeline, LabelFileMissingOrShort) {
   NNS_REQUIRE_SHARED_MODELS();
   auto e = error_of(ssd("option1=mobilenet-ssd option2=no_labels.txt option3=box_priors.txt"));
   EXPECT_NE(e.find("option2: cannot read label file 'no_labels.txt'"), std::string::npos) << e;
-  e = error_of(ssd("option1=mobilenet-ssd option2=coco-80.txt option3=box_priors.txt "
+  e =
+      error_of(ssd("option1=mobilenet-ssd option2=coco-80.txt option3=box_priors.txt "
                    "option4=160:120"));
-  EXPECT_NE(e.find("the input has 91 classes but option2 gives 80 labels"), std::string::npos)
-      << e;
+  EXPECT_NE(e.find("the input has 91 classes but option2 gives 80 labels"), std::string::npos) << e;
 }
 
 TEST(BboxPipeline, BadSizes) {
@@ -176,26 +176,24 @@ TEST(BboxPipeline, TensorsNotFittingScheme) {
   auto e = error_of(
       "multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 stop-index=0 "
       "caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 input-type=float32 "
-      "! tensor_decoder mode=bounding_boxes " + kSsdOpts + " ! appsink name=out");
-  EXPECT_NE(e.find("scheme mobilenet-ssd expects 2 tensors of one type"), std::string::npos)
-      << e;
+      "! tensor_decoder mode=bounding_boxes " +
+      kSsdOpts + " ! appsink name=out");
+  EXPECT_NE(e.find("scheme mobilenet-ssd expects 2 tensors of one type"), std::string::npos) << e;
   // Wrong dims for the SSD boxes.
-  e = error_of(
-      "tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
-      " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
-      "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=2:2:1917:1 "
-      "input-type=float32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
-      "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
-      "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
+  e = error_of("tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
+               " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
+               "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=2:2:1917:1 "
+               "input-type=float32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
+               "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
+               "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
   EXPECT_NE(e.find("(tensor 0 must be 4:1:N)"), std::string::npos) << e;
   // Types differ.
-  e = error_of(
-      "tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
-      " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
-      "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 "
-      "input-type=int32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
-      "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
-      "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
+  e = error_of("tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + kSsdOpts +
+               " ! appsink name=out multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 "
+               "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 "
+               "input-type=int32 ! mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d "
+               "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
+               "input-dim=91:1917:1 input-type=float32 ! mux.sink_1");
   EXPECT_NE(e.find("(types differ)"), std::string::npos) << e;
   // Palm: scores tensor of another N.
   e = error_of(
@@ -214,4 +212,74 @@ TEST(BboxPipeline, PostprocessOption3Malformed) {
   NNS_REQUIRE_SHARED_MODELS();
   auto e = error_of(ssd("option1=mobilenet-ssd-postprocess option3=3:1:2"));
   EXPECT_NE(e.find("must be LOC:CLASS:SCORE:NUM,THRESHOLD"), std::string::npos) << e;
+}
+
+TEST(BboxPipeline, PalmKeypointsInRoiMeta) {
+  NNS_REQUIRE_SHARED_MODELS();
+  auto c = collect(
+      "tensor_mux name=mux ! tensor_decoder mode=bounding_boxes option1=mp-palm-detection "
+      "option3=0.5:4:1.0:1.0:0.5:0.5:8:16:16:16 option4=160:120 option5=300:300 option9=json ! "
+      "appsink name=out multifilesrc location=palm_detection_input_0.%d start-index=0 "
+      "stop-index=0 caps=application/octet-stream ! tensor_converter input-dim=18:2016:1:1 "
+      "input-type=float32 ! mux.sink_0 multifilesrc location=palm_detection_input_1.%d "
+      "start-index=0 stop-index=0 caps=application/octet-stream ! tensor_converter "
+      "input-dim=1:2016:1:1 input-type=float32 ! mux.sink_1",
+      data_dir());
+  ASSERT_TRUE(c.error.empty()) << c.error;
+  ASSERT_EQ(c.frames.size(), 1u);
+  ASSERT_EQ(c.frames[0].rois.size(), 1u);
+  const auto &r = c.frames[0].rois[0];
+  EXPECT_EQ(r.type, "object");  // no labels
+  EXPECT_EQ(r.x, 51);
+  EXPECT_EQ(r.y, 62);
+  ASSERT_EQ(r.keypoints.size(), 14u);  // 7 palm keypoints
+  for (std::size_t i = 0; i < 14; i += 2) {
+    EXPECT_GE(r.keypoints[i], 0);
+    EXPECT_LT(r.keypoints[i], 160);
+    EXPECT_GE(r.keypoints[i + 1], 0);
+    EXPECT_LT(r.keypoints[i + 1], 120);
+  }
+  EXPECT_NE(c.frames[0].json.find("\"keypoints\":[["), std::string::npos) << c.frames[0].json;
+}
+
+// OpenVINO person detection: a synthetic 7:200 tensor with two detections above 0.8 and one
+// below, then the end marker.
+TEST(BboxPipeline, OvPersonDetection) {
+  const std::string dir = nns::test::make_temp_dir();
+  {
+    std::vector<float> v(7 * 200, 0.f);
+    const float rows[4][7] = {{0, 1, 0.95f, 0.1f, 0.2f, 0.4f, 0.6f},
+                              {0, 1, 0.50f, 0.5f, 0.5f, 0.6f, 0.6f},
+                              {0, 1, 0.85f, 0.5f, 0.1f, 0.9f, 0.3f},
+                              {-1, 0, 0, 0, 0, 0, 0}};
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 7; ++k) v[static_cast<std::size_t>(r) * 7 + k] = rows[r][k];
+    std::ofstream f(dir + "/ov.raw", std::ios::binary);
+    f.write(reinterpret_cast<const char *>(v.data()), static_cast<std::streamsize>(v.size() * 4));
+  }
+  auto c = collect("filesrc location=" + dir +
+                   "/ov.raw blocksize=-1 ! application/octet-stream ! tensor_converter "
+                   "input-dim=7:200 input-type=float32 ! tensor_decoder mode=bounding_boxes "
+                   "option1=ov-person-detection option4=200:100 option5=200:100 ! "
+                   "appsink name=out");
+  ASSERT_TRUE(c.error.empty()) << c.error;
+  ASSERT_EQ(c.frames.size(), 1u);
+  ASSERT_EQ(c.frames[0].rois.size(), 2u);
+  const auto &a = c.frames[0].rois[0], &b = c.frames[0].rois[1];
+  EXPECT_EQ(a.type, "object");
+  EXPECT_EQ(a.class_id, -1);
+  EXPECT_EQ(a.x, 20);
+  EXPECT_EQ(a.y, 20);
+  EXPECT_EQ(a.w, 60);
+  EXPECT_EQ(a.h, 40);
+  EXPECT_EQ(b.x, 100);
+  EXPECT_EQ(b.y, 10);
+  // The same bytes as two 7:100 frames do not fit the scheme.
+  auto e = collect("filesrc location=" + dir +
+                   "/ov.raw blocksize=2800 ! application/octet-stream ! tensor_converter "
+                   "input-dim=7:100 input-type=float32 ! tensor_decoder mode=bounding_boxes "
+                   "option1=ov-person-detection ! appsink name=out");
+  std::filesystem::remove_all(dir);
+  EXPECT_NE(e.error.find("scheme ov-person-detection expects 1 tensor 7:200"), std::string::npos)
+      << e.error;
 }

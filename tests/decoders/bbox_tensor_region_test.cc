@@ -13,7 +13,9 @@ using nns::test::bbox::collect;
 
 namespace {
 
-std::string dir() { return nns::test::shared_models_dir() + "/decoder/nnstreamer_decoder_tensor_region"; }
+std::string dir() {
+  return nns::test::shared_models_dir() + "/decoder/nnstreamer_decoder_tensor_region";
+}
 
 std::string inputs() {
   return " filesrc location=mobilenet_ssd_tensor.0 blocksize=-1 ! application/octet-stream ! "
@@ -30,10 +32,11 @@ const std::string kLabelsPriors =
 
 TEST(TensorRegion, RegionsAsFlexibleTensor) {
   NNS_REQUIRE_SHARED_MODELS();
-  auto c = collect("tensor_mux name=mux ! other/tensors,format=static ! tensor_decoder "
-                   "mode=tensor_region option1=3" + kLabelsPriors + " ! appsink name=out" +
-                       inputs(),
-                   dir());
+  auto c = collect(
+      "tensor_mux name=mux ! other/tensors,format=static ! tensor_decoder "
+      "mode=tensor_region option1=3" +
+          kLabelsPriors + " ! appsink name=out" + inputs(),
+      dir());
   ASSERT_TRUE(c.error.empty()) << c.error;
   ASSERT_EQ(c.frames.size(), 1u);
   const auto &d = c.frames[0].data;
@@ -83,15 +86,37 @@ TEST(TensorRegion, Errors) {
   EXPECT_NE(c.error.find("option1: number of regions must be an integer 1..1024, got '0'"),
             std::string::npos)
       << c.error;
-  c = collect("tensor_mux name=mux ! tensor_decoder mode=tensor_region option1=1 "
-              "option2=../nnstreamer_decoder_boundingbox/coco-80.txt "
-              "option3=../nnstreamer_decoder_boundingbox/box_priors.txt ! appsink name=out" +
-                  inputs(),
-              dir());
+  c = collect(
+      "tensor_mux name=mux ! tensor_decoder mode=tensor_region option1=1 "
+      "option2=../nnstreamer_decoder_boundingbox/coco-80.txt "
+      "option3=../nnstreamer_decoder_boundingbox/box_priors.txt ! appsink name=out" +
+          inputs(),
+      dir());
   EXPECT_NE(c.error.find("91 classes but option2 gives 80 labels"), std::string::npos) << c.error;
-  c = collect("tensor_mux name=mux ! tensor_decoder mode=tensor_region option1=1" +
-                  kLabelsPriors + " option4=abc ! appsink name=out" + inputs(),
+  c = collect("tensor_mux name=mux ! tensor_decoder mode=tensor_region option1=1" + kLabelsPriors +
+                  " option4=abc ! appsink name=out" + inputs(),
               dir());
   EXPECT_NE(c.error.find("option4: input video size must be WIDTH:HEIGHT"), std::string::npos)
       << c.error;
+}
+
+// Upstream's second case: more regions than detections; the zero slots make tensor_crop crop
+// the whole 300x300 frame, so the output holds at least two whole-frame crops.
+TEST(TensorRegion, ZeroSlotsCropWholeFrame) {
+  NNS_REQUIRE_SHARED_MODELS();
+  const std::string photo = nns::test::shared_models_dir() + "/data/orange.png";
+  auto c = collect("filesrc location=" + photo +
+                       " ! pngdec ! videoconvert ! videoscale ! "
+                       "video/x-raw,width=300,height=300,format=RGB,framerate=0/1 ! "
+                       "tensor_converter ! crop.raw tensor_mux name=mux ! "
+                       "other/tensors,format=static ! tensor_decoder mode=tensor_region option1=3" +
+                       kLabelsPriors +
+                       " ! crop.info tensor_crop name=crop ! other/tensors,format=flexible ! "
+                       "appsink name=out" +
+                       inputs(),
+                   dir());
+  ASSERT_TRUE(c.error.empty()) << c.error;
+  std::size_t total = 0;
+  for (const auto &f : c.frames) total += f.data.size();
+  EXPECT_GE(total, 2u * (128 + 300 * 300 * 3));
 }

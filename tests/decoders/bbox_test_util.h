@@ -157,8 +157,8 @@ inline std::vector<Rect> text_areas(const std::vector<Roi> &rois, int extra = 1)
   for (const auto &r : rois) {
     if (r.label.empty()) continue;
     const int y = std::max(0, r.y - 14);
-    v.push_back({r.x - extra, y - extra, static_cast<int>(r.label.size()) * 9 + 2 * extra,
-                 13 + 2 * extra});
+    v.push_back(
+        {r.x - extra, y - extra, static_cast<int>(r.label.size()) * 9 + 2 * extra, 13 + 2 * extra});
   }
   return v;
 }
@@ -167,8 +167,8 @@ inline std::vector<Rect> text_areas(const std::vector<Roi> &rois, int extra = 1)
 // size w x h. Box pixels are opaque red. Pixels inside `skip` are ignored. Returns "" when
 // every reference box pixel has one of ours within 1 px and vice versa.
 inline std::string compare_boxes(const std::vector<uint8_t> &ours,
-                                 const std::vector<uint8_t> &golden, bool golden_bgrx, int w,
-                                 int h, const std::vector<Rect> &skip) {
+                                 const std::vector<uint8_t> &golden, bool golden_bgrx, int w, int h,
+                                 const std::vector<Rect> &skip) {
   const std::size_t n = static_cast<std::size_t>(w) * h * 4;
   if (ours.size() != n || golden.size() != n)
     return "frame sizes differ: ours " + std::to_string(ours.size()) + ", reference " +
@@ -179,8 +179,8 @@ inline std::string compare_boxes(const std::vector<uint8_t> &ours,
   };
   auto red_gold = [&](int x, int y) {
     const uint8_t *p = &golden[(static_cast<std::size_t>(y) * w + x) * 4];
-    return golden_bgrx ? (p[2] == 255 && p[1] == 0 && p[0] == 0) : (p[0] == 255 && p[1] == 0 &&
-                                                                     p[2] == 0 && p[3] == 255);
+    return golden_bgrx ? (p[2] == 255 && p[1] == 0 && p[0] == 0)
+                       : (p[0] == 255 && p[1] == 0 && p[2] == 0 && p[3] == 255);
   };
   auto skipped = [&](int x, int y) {
     for (const auto &r : skip)

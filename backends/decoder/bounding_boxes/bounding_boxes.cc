@@ -147,8 +147,7 @@ int bb_set_option(void **pdata, int op, const char *param) {
     case 3:
       if (p.empty()) return TRUE;
       if (!parse_wh(param, d->out_w, d->out_h)) {
-        d->err.set("option4: output size must be WIDTH:HEIGHT (e.g. 640:480), got '%s'",
-                   p.c_str());
+        d->err.set("option4: output size must be WIDTH:HEIGHT (e.g. 640:480), got '%s'", p.c_str());
         return FALSE;
       }
       return TRUE;
@@ -240,8 +239,8 @@ void log_boxes(BBox *d) {
   for (const auto &o : d->out_boxes) {
     const Box &b = *o.box;
     std::string head = o.label ? "[" + *o.label + "] " : "";
-    std::printf("%sx:%d y:%d w:%d h:%d", head.c_str(), static_cast<int>(b.x),
-                static_cast<int>(b.y), static_cast<int>(b.w), static_cast<int>(b.h));
+    std::printf("%sx:%d y:%d w:%d h:%d", head.c_str(), static_cast<int>(b.x), static_cast<int>(b.y),
+                static_cast<int>(b.w), static_cast<int>(b.h));
     if (b.angle != 0) std::printf(" angle:%.2f", static_cast<double>(b.angle));
     std::printf(" prob:%.4f", static_cast<double>(b.score));
     if (b.track_id) std::printf(" id:%d", b.track_id);
@@ -253,37 +252,15 @@ void log_boxes(BBox *d) {
 void draw_box(BBox *d, nns::bbox::Canvas &cv, nns::bbox::OutBox &o) {
   const Box &b = *o.box;
   const uint32_t colour = nns::bbox::box_colour();
-  const double W = cv.width, H = cv.height;
-  const double iw = d->ctx.in_w, ih = d->ctx.in_h;
-  if (b.angle != 0) {
-    const double cx = b.x + b.w / 2.0, cy = b.y + b.h / 2.0;
-    const double c = std::cos(b.angle), s = std::sin(b.angle);
-    const double dx[4] = {-b.w / 2.0, b.w / 2.0, b.w / 2.0, -b.w / 2.0};
-    const double dy[4] = {-b.h / 2.0, -b.h / 2.0, b.h / 2.0, b.h / 2.0};
-    int px[4], py[4];
-    for (int k = 0; k < 4; ++k) {
-      px[k] = static_cast<int>(W * (cx + dx[k] * c - dy[k] * s) / iw);
-      py[k] = static_cast<int>(H * (cy + dx[k] * s + dy[k] * c) / ih);
-    }
-    for (int k = 0; k < 4; ++k) nns::bbox::draw_line(cv, px[k], py[k], px[(k + 1) % 4],
-                                                     py[(k + 1) % 4], colour);
-    int minx = *std::min_element(px, px + 4), maxx = *std::max_element(px, px + 4);
-    int miny = *std::min_element(py, py + 4), maxy = *std::max_element(py, py + 4);
-    o.x = std::max(0, minx), o.y = std::max(0, miny);
-    o.w = std::max(0, std::min(cv.width - 1, maxx) - o.x);
-    o.h = std::max(0, std::min(cv.height - 1, maxy) - o.y);
-  } else {
-    int x1 = static_cast<int>(std::floor(W * b.x / iw));
-    int y1 = static_cast<int>(std::floor(H * b.y / ih));
-    int x2 = std::min(cv.width - 1, static_cast<int>(std::floor(W * (b.x + b.w) / iw)));
-    int y2 = std::min(cv.height - 1, static_cast<int>(std::floor(H * (b.y + b.h) / ih)));
-    x1 = std::clamp(x1, 0, cv.width - 1), y1 = std::clamp(y1, 0, cv.height - 1);
-    nns::bbox::draw_rect(cv, x1, y1, x2, y2, colour);
-    o.x = x1, o.y = y1, o.w = std::max(0, x2 - x1), o.h = std::max(0, y2 - y1);
-  }
-  if (o.label) {
+  const nns::bbox::Placed p = nns::bbox::draw_box(cv, b, d->ctx.in_w, d->ctx.in_h, colour);
+  o.x = p.x, o.y = p.y, o.w = p.w, o.h = p.h;
+  if (o.label && b.angle == 0) {  // as NNStreamer: rotated boxes get no label text
     d->text = *o.label;
-    if (d->track) d->text += "-" + std::to_string(b.track_id);
+    if (d->track) {
+      char id[16];
+      std::snprintf(id, sizeof id, "-%d", b.track_id);
+      d->text += id;
+    }
     nns::bbox::draw_text(cv, o.x, std::max(0, o.y - 14), d->text, colour);
   }
 }

@@ -9,16 +9,26 @@
 namespace nns::bbox {
 
 namespace {
-const char *roi_type(const OutBox &o) { return o.label ? o.label->c_str() : "object"; }
+const char *roi_type(const OutBox &o) {
+  return o.label ? o.label->c_str() : "object";
+}
 
 void append_escaped(std::string &out, const std::string &s) {
   out += '"';
   for (char c : s) {
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (static_cast<unsigned char>(c) < 0x20) {
           char b[8];
@@ -42,15 +52,15 @@ void append_num(std::string &out, double v) {
 void add_roi_metas(GstBuffer *buf, const std::vector<OutBox> &boxes) {
   for (const auto &o : boxes) {
     GstVideoRegionOfInterestMeta *m = gst_buffer_add_video_region_of_interest_meta(
-        buf, roi_type(o), static_cast<guint>(o.x), static_cast<guint>(o.y),
-        static_cast<guint>(o.w), static_cast<guint>(o.h));
+        buf, roi_type(o), static_cast<guint>(o.x), static_cast<guint>(o.y), static_cast<guint>(o.w),
+        static_cast<guint>(o.h));
     if (!m) continue;
     m->id = o.box->track_id;
-    GstStructure *s = gst_structure_new(
-        "detection", "class-id", G_TYPE_INT, o.box->class_id, "label", G_TYPE_STRING,
-        o.label ? o.label->c_str() : "", "score", G_TYPE_DOUBLE,
-        static_cast<double>(o.box->score), "track-id", G_TYPE_INT, o.box->track_id, "angle",
-        G_TYPE_DOUBLE, static_cast<double>(o.box->angle), nullptr);
+    GstStructure *s = gst_structure_new("detection", "class-id", G_TYPE_INT, o.box->class_id,
+                                        "label", G_TYPE_STRING, o.label ? o.label->c_str() : "",
+                                        "score", G_TYPE_DOUBLE, static_cast<double>(o.box->score),
+                                        "track-id", G_TYPE_INT, o.box->track_id, "angle",
+                                        G_TYPE_DOUBLE, static_cast<double>(o.box->angle), nullptr);
     if (!o.box->keypoints.empty()) {
       GValue arr = G_VALUE_INIT, v = G_VALUE_INIT;
       g_value_init(&arr, GST_TYPE_ARRAY);
@@ -114,8 +124,7 @@ void add_json_meta(GstBuffer *buf, const std::string &json) {
   });
   GstCustomMeta *m = gst_buffer_add_custom_meta(buf, kDetectionsMetaName);
   if (!m) return;
-  gst_structure_set(gst_custom_meta_get_structure(m), "json", G_TYPE_STRING, json.c_str(),
-                    nullptr);
+  gst_structure_set(gst_custom_meta_get_structure(m), "json", G_TYPE_STRING, json.c_str(), nullptr);
 }
 
 }  // namespace nns::bbox

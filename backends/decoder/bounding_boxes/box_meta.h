@@ -25,7 +25,7 @@ inline constexpr const char *kDetectionsMetaName = "NnsDetectionsMeta";
 struct OutBox {
   const Box *box = nullptr;  // model-input box (class, score, track id, angle, keypoints)
   int x = 0, y = 0, w = 0, h = 0;
-  float sx = 1, sy = 1;  // model-input to output scale (keypoints)
+  float sx = 1, sy = 1;                // model-input to output scale (keypoints)
   const std::string *label = nullptr;  // nullptr: none
 };
 

@@ -32,21 +32,39 @@ const float *as_float(const TensorView &t, std::size_t count, std::vector<float>
   const TensorType type = t.info ? t.info->type : TensorType::kFloat32;
   const std::size_t need = count * type_size(type);
   if (!t.data || t.size < need)
-    fail(ErrorKind::kStream, "tensor holds " + std::to_string(t.size) + " bytes, " +
-                                 std::to_string(need) + " needed");
+    fail(ErrorKind::kStream,
+         "tensor holds " + std::to_string(t.size) + " bytes, " + std::to_string(need) + " needed");
   if (type == TensorType::kFloat32) return static_cast<const float *>(t.data);
   if (scratch.size() < count) scratch.resize(count);
   float *d = scratch.data();
   switch (type) {
-    case TensorType::kInt8: convert<int8_t>(t.data, count, d); break;
-    case TensorType::kUInt8: convert<uint8_t>(t.data, count, d); break;
-    case TensorType::kInt16: convert<int16_t>(t.data, count, d); break;
-    case TensorType::kUInt16: convert<uint16_t>(t.data, count, d); break;
-    case TensorType::kInt32: convert<int32_t>(t.data, count, d); break;
-    case TensorType::kUInt32: convert<uint32_t>(t.data, count, d); break;
-    case TensorType::kInt64: convert<int64_t>(t.data, count, d); break;
-    case TensorType::kUInt64: convert<uint64_t>(t.data, count, d); break;
-    case TensorType::kFloat64: convert<double>(t.data, count, d); break;
+    case TensorType::kInt8:
+      convert<int8_t>(t.data, count, d);
+      break;
+    case TensorType::kUInt8:
+      convert<uint8_t>(t.data, count, d);
+      break;
+    case TensorType::kInt16:
+      convert<int16_t>(t.data, count, d);
+      break;
+    case TensorType::kUInt16:
+      convert<uint16_t>(t.data, count, d);
+      break;
+    case TensorType::kInt32:
+      convert<int32_t>(t.data, count, d);
+      break;
+    case TensorType::kUInt32:
+      convert<uint32_t>(t.data, count, d);
+      break;
+    case TensorType::kInt64:
+      convert<int64_t>(t.data, count, d);
+      break;
+    case TensorType::kUInt64:
+      convert<uint64_t>(t.data, count, d);
+      break;
+    case TensorType::kFloat64:
+      convert<double>(t.data, count, d);
+      break;
     case TensorType::kFloat16: {
       const auto *s = static_cast<const uint16_t *>(t.data);
       for (std::size_t i = 0; i < count; ++i) d[i] = half_to_float(s[i]);
@@ -66,8 +84,8 @@ float opt_float(const std::string &scheme, const std::string &field_name, const 
   errno = 0;
   const double v = std::strtod(s.c_str(), &end);
   if (errno || end == s.c_str() || *end)
-    fail(ErrorKind::kSettings, "option3 of scheme " + scheme + ": " + field_name +
-                                   " must be a number, got '" + s + "'");
+    fail(ErrorKind::kSettings,
+         "option3 of scheme " + scheme + ": " + field_name + " must be a number, got '" + s + "'");
   return static_cast<float>(v);
 }
 
@@ -114,7 +132,8 @@ void nms_pixels(std::vector<Box> &boxes, float threshold) {
   std::size_t kept = 0;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     bool drop = false;
-    for (std::size_t k = 0; k < kept && !drop; ++k) drop = iou_pixels(boxes[k], boxes[i]) > threshold;
+    for (std::size_t k = 0; k < kept && !drop; ++k)
+      drop = iou_pixels(boxes[k], boxes[i]) > threshold;
     if (!drop) {
       if (kept != i) boxes[kept] = std::move(boxes[i]);
       ++kept;

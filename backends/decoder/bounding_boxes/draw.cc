@@ -2,6 +2,7 @@
 #include "draw.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -138,6 +139,39 @@ void draw_text(Canvas &c, int x, int y, std::string_view text, uint32_t colour) 
         if (rows[r] & (0x10 >> col)) put(c, x + 1 + col, y + 3 + r, colour);
     x += kAdvance;
   }
+}
+
+Placed draw_box(Canvas &cv, const Box &b, unsigned in_w, unsigned in_h, uint32_t colour) {
+  Placed o;
+  if (cv.width <= 0 || cv.height <= 0 || in_w == 0 || in_h == 0) return o;
+  const double W = cv.width, H = cv.height, iw = in_w, ih = in_h;
+  if (b.angle != 0) {
+    const double cx = b.x + b.w / 2.0, cy = b.y + b.h / 2.0;
+    const double c = std::cos(b.angle), s = std::sin(b.angle);
+    const double dx[4] = {-b.w / 2.0, b.w / 2.0, b.w / 2.0, -b.w / 2.0};
+    const double dy[4] = {-b.h / 2.0, -b.h / 2.0, b.h / 2.0, b.h / 2.0};
+    int px[4], py[4];
+    for (int k = 0; k < 4; ++k) {
+      px[k] = static_cast<int>(std::floor(W * (cx + dx[k] * c - dy[k] * s) / iw));
+      py[k] = static_cast<int>(std::floor(H * (cy + dx[k] * s + dy[k] * c) / ih));
+    }
+    for (int k = 0; k < 4; ++k)
+      draw_line(cv, px[k], py[k], px[(k + 1) % 4], py[(k + 1) % 4], colour);
+    const int minx = std::clamp(*std::min_element(px, px + 4), 0, cv.width - 1);
+    const int maxx = std::clamp(*std::max_element(px, px + 4), 0, cv.width - 1);
+    const int miny = std::clamp(*std::min_element(py, py + 4), 0, cv.height - 1);
+    const int maxy = std::clamp(*std::max_element(py, py + 4), 0, cv.height - 1);
+    o.x = minx, o.y = miny, o.w = maxx - minx, o.h = maxy - miny;
+    return o;
+  }
+  int x1 = static_cast<int>(std::floor(W * b.x / iw));
+  int y1 = static_cast<int>(std::floor(H * b.y / ih));
+  const int x2 = std::min(cv.width - 1, static_cast<int>(std::floor(W * (b.x + b.w) / iw)));
+  const int y2 = std::min(cv.height - 1, static_cast<int>(std::floor(H * (b.y + b.h) / ih)));
+  x1 = std::clamp(x1, 0, cv.width - 1), y1 = std::clamp(y1, 0, cv.height - 1);
+  draw_rect(cv, x1, y1, x2, y2, colour);
+  o.x = x1, o.y = y1, o.w = std::max(0, x2 - x1), o.h = std::max(0, y2 - y1);
+  return o;
 }
 
 }  // namespace nns::bbox

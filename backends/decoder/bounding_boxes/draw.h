@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "box_scheme.h"
+
 namespace nns::bbox {
 
 struct Canvas {
@@ -25,6 +27,15 @@ void draw_line(Canvas &c, int x0, int y0, int x1, int y1, uint32_t colour);
 // Text with its top-left cell corner at (x, y); characters that would cross the right edge
 // are not drawn. Lower-case letters are drawn as capitals; unknown characters as a box.
 void draw_text(Canvas &c, int x, int y, std::string_view text, uint32_t colour);
+
+// Output rectangle of a drawn box (for rotated boxes: their bounding rectangle, clipped).
+struct Placed {
+  int x = 0, y = 0, w = 0, h = 0;
+};
+// Draws `b` (model-input pixels of an in_w x in_h input) scaled to the canvas: axis-aligned
+// as NNStreamer (x1 = floor(W*x/in_w), x2 = min(W-1, floor(W*(x+w)/in_w))), or, when
+// b.angle != 0, its four sides rotated by the angle about the box centre.
+Placed draw_box(Canvas &c, const Box &b, unsigned in_w, unsigned in_h, uint32_t colour);
 
 inline constexpr int kCellW = 8, kCellH = 13, kAdvance = 9;
 

@@ -11,8 +11,12 @@ constexpr std::size_t kMaxCentroids = 100;
 constexpr unsigned kDisappear = 100;
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 
-int centre_x(const Box &b) { return static_cast<int>(b.x) + static_cast<int>(b.w) / 2; }
-int centre_y(const Box &b) { return static_cast<int>(b.y) + static_cast<int>(b.h) / 2; }
+int centre_x(const Box &b) {
+  return static_cast<int>(b.x) + static_cast<int>(b.w) / 2;
+}
+int centre_y(const Box &b) {
+  return static_cast<int>(b.y) + static_cast<int>(b.h) / 2;
+}
 }  // namespace
 
 void CentroidTracker::update(std::vector<Box> &boxes) {

@@ -30,9 +30,9 @@ class MobilenetSsd final : public Scheme {
                                      " needs the box priors file: "
                                      "priors.txt[:det_thr:Y:X:H:W:iou]");
     if (f.size() > 7)
-      fail(ErrorKind::kSettings, "option3 of scheme " + kName + " has " +
-                                     std::to_string(f.size()) +
-                                     " fields, at most 7 expected (priors.txt:det_thr:Y:X:H:W:iou)");
+      fail(ErrorKind::kSettings,
+           "option3 of scheme " + kName + " has " + std::to_string(f.size()) +
+               " fields, at most 7 expected (priors.txt:det_thr:Y:X:H:W:iou)");
     f.resize(7);
     load_priors(f[0]);
     threshold_ = opt_float(kName, "det_thr (field 2)", f[1], 0.5f);
@@ -70,14 +70,12 @@ class MobilenetSsd final : public Scheme {
       fail(ErrorKind::kNegotiation,
            "scheme " + kName + ": the input has " + std::to_string(c[0]) +
                " classes but option2 gives " + std::to_string(ctx.num_labels) +
-               " labels (a label file with at least " + std::to_string(c[0]) +
-               " lines is needed)");
+               " labels (a label file with at least " + std::to_string(c[0]) + " lines is needed)");
     n_ = b[2];
     classes_ = c[0];
   }
 
-  void decode(std::span<const TensorView> in, const Context &ctx,
-              std::vector<Box> &out) override {
+  void decode(std::span<const TensorView> in, const Context &ctx, std::vector<Box> &out) override {
     out.clear();
     const float *reg = as_float(in[0], 4 * n_, scratch_box_);
     const float *logits = as_float(in[1], classes_ * n_, scratch_cls_);
@@ -141,8 +139,7 @@ class MobilenetSsd final : public Scheme {
                                      " lines, 4 expected (ycenter, xcenter, h, w)");
     for (std::size_t i = 1; i < 4; ++i)
       if (p[i].size() != p[0].size() || p[i].empty())
-        fail(ErrorKind::kSettings, "box priors file '" + path +
-                                       "' is not consistent: line 1 has " +
+        fail(ErrorKind::kSettings, "box priors file '" + path + "' is not consistent: line 1 has " +
                                        std::to_string(p[0].size()) + " values, line " +
                                        std::to_string(i + 1) + " has " +
                                        std::to_string(p[i].size()));

@@ -30,7 +30,8 @@ class MobilenetSsdPp final : public Scheme {
     if (got != 5)
       fail(ErrorKind::kSettings, "option3 of scheme " + kName +
                                      " must be LOC:CLASS:SCORE:NUM,THRESHOLD (5 integers, e.g. "
-                                     "3:1:2:0,50), got '" + text + "'");
+                                     "3:1:2:0,50), got '" +
+                                     text + "'");
     for (int v : {loc, cls, score, num})
       if (v < 0 || v > 15)
         fail(ErrorKind::kSettings, "option3 of scheme " + kName + ": tensor index " +
@@ -61,8 +62,7 @@ class MobilenetSsdPp final : public Scheme {
     n_ = c[0];
   }
 
-  void decode(std::span<const TensorView> in, const Context &ctx,
-              std::vector<Box> &out) override {
+  void decode(std::span<const TensorView> in, const Context &ctx, std::vector<Box> &out) override {
     out.clear();
     const float num_f = as_float(in[num_], 1, s_num_)[0];
     const float *cls = as_float(in[cls_], n_, s_cls_);

@@ -86,12 +86,11 @@ class MpPalmDetection final : public Scheme {
            "scheme " + kName + ": option3 anchors (num_layers " + std::to_string(layers_) +
                ") give " + std::to_string(make_anchors(192).size()) +
                " anchors on a 192 px grid and " + std::to_string(make_anchors(ctx.in_w).size()) +
-               " on the option5 " + std::to_string(ctx.in_w) + " px grid, the input has N=" +
-               std::to_string(n_));
+               " on the option5 " + std::to_string(ctx.in_w) +
+               " px grid, the input has N=" + std::to_string(n_));
   }
 
-  void decode(std::span<const TensorView> in, const Context &ctx,
-              std::vector<Box> &out) override {
+  void decode(std::span<const TensorView> in, const Context &ctx, std::vector<Box> &out) override {
     out.clear();
     const float *reg = as_float(in[0], coords_ * n_, s_reg_);
     const float *sc = as_float(in[1], n_, s_sc_);
@@ -127,8 +126,8 @@ class MpPalmDetection final : public Scheme {
  private:
   float scale_of(int i) const {
     if (layers_ == 1) return (min_scale_ + max_scale_) * 0.5f;
-    return min_scale_ + (max_scale_ - min_scale_) * static_cast<float>(i) /
-                            (static_cast<float>(layers_) - 1.f);
+    return min_scale_ +
+           (max_scale_ - min_scale_) * static_cast<float>(i) / (static_cast<float>(layers_) - 1.f);
   }
 
   std::vector<ssd::Anchor> make_anchors(unsigned size) const {

@@ -19,12 +19,10 @@ class OvDetection final : public Scheme {
   void check_input(const TensorsInfo &in, const Context &) override {
     if (in.size() < 1 || in[0].dims[0] != kDesc || in[0].dims[1] != kMax ||
         !ones_from(in[0].dims, 2))
-      reject_input(kName, "1 tensor 7:200 (image_id, label, conf, x_min, y_min, x_max, y_max)",
-                   in);
+      reject_input(kName, "1 tensor 7:200 (image_id, label, conf, x_min, y_min, x_max, y_max)", in);
   }
 
-  void decode(std::span<const TensorView> in, const Context &ctx,
-              std::vector<Box> &out) override {
+  void decode(std::span<const TensorView> in, const Context &ctx, std::vector<Box> &out) override {
     out.clear();
     const float *v = as_float(in[0], kDesc * kMax, scratch_);
     const float iw = static_cast<float>(ctx.in_w), ih = static_cast<float>(ctx.in_h);
