@@ -31,7 +31,8 @@ void set_src_caps(GstPad *src, const TensorsConfig &cfg, const std::string &what
          "downstream of " + what + " refused caps " + caps_to_string(caps.get()));
 }
 
-void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix) {
+void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix,
+                   const TensorsConfig &cfg) {
   EventPtr ss(gst_pad_get_sticky_event(src, GST_EVENT_STREAM_START, 0));
   if (!ss) {
     GCharPtr name(gst_element_get_name(element));
@@ -40,6 +41,7 @@ void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix) 
     gst_event_set_group_id(ev, gst_util_group_id_next());
     gst_pad_push_event(src, ev);
   }
+  set_src_caps(src, cfg, suffix);
   EventPtr seg(gst_pad_get_sticky_event(src, GST_EVENT_SEGMENT, 0));
   if (!seg) {
     GstSegment s;

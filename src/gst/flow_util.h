@@ -18,9 +18,11 @@ namespace nns::gst {
 // nns::Error(kNegotiation) naming `what` (e.g. "src_0"), the offered and the accepted caps.
 void set_src_caps(GstPad *src, const TensorsConfig &cfg, const std::string &what);
 
-// Sends stream-start (id "<element>-<suffix>") and a TIME segment on a new src pad, unless it
-// already has them.
-void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix);
+// Starts (or re-configures) a src pad in the order GStreamer requires: stream-start (id
+// "<element>-<suffix>") unless present, the caps for `cfg` (set_src_caps, `suffix` names the
+// pad in errors), then a TIME segment unless present.
+void start_src_pad(GstElement *element, GstPad *src, const std::string &suffix,
+                   const TensorsConfig &cfg);
 
 // Read maps of every tensor memory of a buffer (tensors past 16 come out of the packed memory).
 class TensorMaps {

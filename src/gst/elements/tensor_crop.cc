@@ -133,8 +133,7 @@ static void negotiate(GstTensorCrop *self) {
     out.rate_n = 0;
     out.rate_d = 1;
   }
-  nns::gst::start_src_pad(GST_ELEMENT(self), self->srcpad, "src");
-  nns::gst::set_src_caps(self->srcpad, out, "src");
+  nns::gst::start_src_pad(GST_ELEMENT(self), self->srcpad, "src", out);
 }
 
 // Crops `raw` by the regions of `info` into a new flexible buffer (nullptr: no region).

@@ -221,9 +221,8 @@ static void configure(GstTensorIf *self, const nns::TensorsConfig &cfg) {
       gst_object_unref(pad);  // the element keeps it
     }
     br.pad = pad;
-    nns::gst::start_src_pad(GST_ELEMENT(self), pad, "src_" + std::to_string(b));
-    nns::gst::set_src_caps(pad, nns::TensorsConfig{br.out, cfg.rate_n, cfg.rate_d},
-                           "src_" + std::to_string(b));
+    nns::gst::start_src_pad(GST_ELEMENT(self), pad, "src_" + std::to_string(b),
+                            nns::TensorsConfig{br.out, cfg.rate_n, cfg.rate_d});
   }
   if (added) gst_element_no_more_pads(GST_ELEMENT(self));
   self->priv->state = std::move(stp);
