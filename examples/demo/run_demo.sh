@@ -78,5 +78,10 @@ bash "$ROOT/examples/face_demo/run.sh" ${face_photo:+"$face_photo"} || rc=$?
 if ((rc == 77)); then
   echo "run_demo: face demo skipped (see the reason above)"
   rc=0
+elif ((rc == 0)); then
+  echo
+  echo "run_demo: the same with tensor_decoder mode=bounding_boxes drawing the boxes (examples/face_demo/boxes.sh)"
+  bash "$ROOT/examples/face_demo/boxes.sh" ${face_photo:+"$face_photo"} || rc=$?
+  ((rc != 77)) || rc=0
 fi
 exit $rc
