@@ -8,6 +8,8 @@
 // Rounds alternate the modes so machine load hits them alike; medians are reported.
 //
 //   build/bench/pytorch_pipeline_bench [iterations=2000] [rounds=5] [threads=1] [modes=tbp]
+//   (more modes: q = appsrc ! queue ! tensor_filter, f = fresh back-end instance,
+//    c = caches cooled between direct invokes, B = direct loop on another thread)
 #include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 #include <torch/script.h>
@@ -173,11 +175,12 @@ void on_need_data(GstAppSrc *src, guint, gpointer data) {
   }
 }
 
-Rate run_pipeline(int n) {
+Rate run_pipeline(int n, bool queued = false) {
   std::string desc =
       "appsrc name=src is-live=false format=time max-buffers=4 "
       "caps=other/tensors,format=static,num_tensors=1,dimensions=1:28:28:1,types=uint8,"
-      "framerate=0/1 ! tensor_filter framework=pytorch model=" +
+      "framerate=0/1 ! " +
+      std::string(queued ? "queue max-size-buffers=4 ! " : "") + "tensor_filter framework=pytorch model=" +
       g_model + " input=1:28:28:1 inputtype=uint8 output=10:1 outputtype=uint8 custom=NumThreads:" +
       std::to_string(g_threads) + " ! fakesink name=sink sync=false enable-last-sample=false";
   GError *err = nullptr;
@@ -289,7 +292,7 @@ int main(int argc, char **argv) {
   if (tf) gst_object_unref(tf);
   if (!have_filter) std::printf("tensor_filter is not built in this tree: pipeline skipped\n");
 
-  std::vector<double> rt, rb, rp, ratio, ct, cb, cp, cratio;
+  std::vector<double> rt, rb, rp, ratio, ct, cb, cp, cratio, rq;
   for (int r = 0; r < rounds; ++r) {
     Rate t, b, p;
     if (modes.find('t') != std::string::npos) t = run_torch(m, n);
@@ -324,6 +327,12 @@ int main(int argc, char **argv) {
       ratio.push_back(b.per_s > 0 ? p.per_s / b.per_s : 0);
       cratio.push_back(p.cpu_us > 0 ? b.cpu_us / p.cpu_us : 0);
     }
+    if (have_filter && modes.find('q') != std::string::npos) {  // appsrc ! queue ! tensor_filter
+      Rate q = run_pipeline(n, true);
+      rq.push_back(b.per_s > 0 ? q.per_s / b.per_s : 0);
+      std::printf("round %d: pipeline with a queue before the filter %.0f/s (cpu %.1f us)\n",
+                  r + 1, q.per_s, q.cpu_us);
+    }
     std::printf(
         "round %d: torch %.0f/s (cpu %.1f us, thread %.1f)  backend %.0f/s (cpu %.1f, thread "
         "%.1f)  pipeline %.0f/s (cpu %.1f, thread %.1f)\n",
@@ -343,6 +352,11 @@ int main(int argc, char **argv) {
         "pipeline/backend throughput (CPU cost, backend us / pipeline us): %.3f "
         "(target >= 0.97)\n",
         median(cratio));
+    if (!rq.empty())
+      std::printf(
+          "queued pipeline (appsrc ! queue ! tensor_filter)/backend throughput (wall): %.3f "
+          "(target >= 0.97)\n",
+          median(rq));
   }
   std::printf("backend/torch (wall): %.3f\n", median(rb) / median(rt));
   return 0;
