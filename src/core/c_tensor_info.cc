@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-#include "gst/c_tensor_info.h"
+#include "core/c_tensor_info.h"
 
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "core/error.h"
 
-namespace nns::gst {
+namespace nns {
 namespace {
 
 static_assert(NNS_TENSOR_RANK_LIMIT == kRankLimit);
@@ -13,68 +15,102 @@ static_assert(NNS_TENSOR_SIZE_LIMIT == kTensorLimit);
 static_assert(NNS_TENSOR_MEMORY_MAX == kMemoryMax);
 static_assert(static_cast<int>(_NNS_END) == static_cast<int>(TensorType::kEnd));
 
-void init_one(GstTensorInfo *t) {
-  t->name = nullptr;
-  t->type = _NNS_END;
-  std::memset(t->dimension, 0, sizeof t->dimension);
+// Entry `i` < NNS_TENSOR_SIZE_LIMIT, allocating the extra block when `i` needs it.
+GstTensorInfo *entry_for_write(GstTensorsInfo *info, unsigned i) {
+  if (i >= NNS_TENSOR_MEMORY_MAX && !info->extra) {
+    info->extra = static_cast<GstTensorInfo *>(
+        std::calloc(NNS_TENSOR_SIZE_EXTRA_LIMIT, sizeof(GstTensorInfo)));
+    if (!info->extra) throw std::bad_alloc();
+    for (unsigned k = 0; k < NNS_TENSOR_SIZE_EXTRA_LIMIT; ++k) info->extra[k].type = _NNS_END;
+  }
+  return gst_info_at(info, i);
 }
 
 }  // namespace
 
-void init_c(GstTensorsInfo *info) {
-  info->num_tensors = 0;
-  for (auto &t : info->info) init_one(&t);
-  info->extra = nullptr;
+void gst_info_init(GstTensorsInfo *info) {
+  std::memset(info, 0, sizeof(*info));
+  for (auto &t : info->info) t.type = _NNS_END;
   info->format = _NNS_TENSOR_FORMAT_STATIC;
 }
 
-void init_c(GstTensorsConfig *config) {
-  init_c(&config->info);
+void gst_config_init(GstTensorsConfig *config) {
+  gst_info_init(&config->info);
   config->rate_n = -1;
   config->rate_d = -1;
 }
 
-void free_c(GstTensorsInfo *info) {
-  for (auto &t : info->info) g_free(t.name);
+void gst_info_clear(GstTensorsInfo *info) {
+  for (auto &t : info->info) std::free(t.name);
   if (info->extra) {
-    for (unsigned i = 0; i < NNS_TENSOR_SIZE_EXTRA_LIMIT; ++i) g_free(info->extra[i].name);
-    g_free(info->extra);
+    for (unsigned i = 0; i < NNS_TENSOR_SIZE_EXTRA_LIMIT; ++i) std::free(info->extra[i].name);
+    std::free(info->extra);
   }
-  init_c(info);
+  gst_info_init(info);
 }
 
-void free_c(GstTensorsConfig *config) {
-  free_c(&config->info);
+void gst_config_clear(GstTensorsConfig *config) {
+  gst_info_clear(&config->info);
   config->rate_n = -1;
   config->rate_d = -1;
 }
 
-GstTensorInfo *c_tensor_at(GstTensorsInfo *info, unsigned i) {
+GstTensorInfo *gst_info_at(GstTensorsInfo *info, unsigned i) {
   if (i < NNS_TENSOR_MEMORY_MAX) return &info->info[i];
-  if (i >= NNS_TENSOR_SIZE_LIMIT) return nullptr;
-  if (!info->extra) {
-    info->extra = g_new0(GstTensorInfo, NNS_TENSOR_SIZE_EXTRA_LIMIT);
-    for (unsigned k = 0; k < NNS_TENSOR_SIZE_EXTRA_LIMIT; ++k) init_one(&info->extra[k]);
-  }
+  if (!info->extra || i >= NNS_TENSOR_SIZE_LIMIT) return nullptr;
   return &info->extra[i - NNS_TENSOR_MEMORY_MAX];
 }
 
-const GstTensorInfo *c_tensor_at(const GstTensorsInfo *info, unsigned i) {
-  if (i < NNS_TENSOR_MEMORY_MAX) return &info->info[i];
-  if (i >= NNS_TENSOR_SIZE_LIMIT || !info->extra) return nullptr;
-  return &info->extra[i - NNS_TENSOR_MEMORY_MAX];
+const GstTensorInfo *gst_info_at(const GstTensorsInfo *info, unsigned i) {
+  return gst_info_at(const_cast<GstTensorsInfo *>(info), i);
+}
+
+void gst_info_from_desc(const nns_tensors_desc &desc, GstTensorsInfo *out) {
+  gst_info_init(out);
+  unsigned n = desc.num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT : desc.num_tensors;
+  out->num_tensors = n;
+  out->format = static_cast<tensor_format>(desc.format);
+  for (unsigned i = 0; i < n; ++i) {
+    GstTensorInfo *t = entry_for_write(out, i);
+    const nns_tensor_desc &s = desc.tensors[i];
+    t->name = s.name[0] ? strndup(s.name, NNS_TENSOR_NAME_MAX) : nullptr;
+    t->type = static_cast<tensor_type>(s.type);
+    std::memcpy(t->dimension, s.dims, sizeof(t->dimension));
+  }
+}
+
+void desc_from_gst_info(const GstTensorsInfo *info, nns_tensors_desc &out) {
+  unsigned n =
+      info->num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT : info->num_tensors;
+  out.num_tensors = n;
+  out.format = static_cast<uint32_t>(info->format);
+  for (unsigned i = 0; i < n; ++i) {
+    nns_tensor_desc &t = out.tensors[i];
+    const GstTensorInfo *s = gst_info_at(info, i);
+    if (!s) {
+      out.num_tensors = i;
+      break;
+    }
+    t.name[0] = '\0';
+    if (s->name) {
+      std::strncpy(t.name, s->name, NNS_TENSOR_NAME_MAX - 1);
+      t.name[NNS_TENSOR_NAME_MAX - 1] = '\0';
+    }
+    t.type = static_cast<uint32_t>(s->type);
+    std::memcpy(t.dims, s->dimension, sizeof(t.dims));
+  }
 }
 
 void to_c(const TensorsInfo &in, GstTensorsInfo *out) {
   if (in.size() > kTensorLimit)
     fail(ErrorKind::kSettings, std::to_string(in.size()) + " tensors exceed the limit of " +
                                    std::to_string(kTensorLimit));
-  free_c(out);
+  gst_info_clear(out);
   out->num_tensors = static_cast<unsigned>(in.size());
   out->format = static_cast<tensor_format>(in.format);
   for (unsigned i = 0; i < in.size(); ++i) {
-    GstTensorInfo *t = c_tensor_at(out, i);
-    t->name = in[i].name.empty() ? nullptr : g_strdup(in[i].name.c_str());
+    GstTensorInfo *t = entry_for_write(out, i);
+    t->name = in[i].name.empty() ? nullptr : strdup(in[i].name.c_str());
     t->type = static_cast<tensor_type>(in[i].type);
     for (std::size_t d = 0; d < kRankLimit; ++d) t->dimension[d] = in[i].dims[d];
   }
@@ -96,7 +132,7 @@ TensorsInfo from_c(const GstTensorsInfo *in) {
     fail(ErrorKind::kStream, "tensors info num_tensors=" + std::to_string(in->num_tensors) +
                                  " exceeds the limit of " + std::to_string(kTensorLimit));
   for (unsigned i = 0; i < in->num_tensors; ++i) {
-    const GstTensorInfo *t = c_tensor_at(in, i);
+    const GstTensorInfo *t = gst_info_at(in, i);
     if (!t)
       fail(ErrorKind::kStream, "tensors info has num_tensors=" + std::to_string(in->num_tensors) +
                                    " but no 'extra' entries for tensor " + std::to_string(i));
@@ -122,4 +158,4 @@ TensorsConfig from_c(const GstTensorsConfig *in) {
   return out;
 }
 
-}  // namespace nns::gst
+}  // namespace nns
