@@ -19,7 +19,9 @@ using nns::test::Props;
 using nns::test::tensor_desc;
 using nns::test::tensors_desc;
 
-const BackendLib &lib() { return nns::test::backend_lib("armnn"); }
+const BackendLib &lib() {
+  return nns::test::backend_lib("armnn");
+}
 
 #define REQUIRE_BACKEND()                                                 \
   do {                                                                    \

@@ -37,7 +37,9 @@ inline std::string filters_dir() {
 }
 
 // Folder of the generated models (build/tests/models).
-inline std::string models_dir() { return std::string(NNS_BUILD_DIR) + "/tests/models"; }
+inline std::string models_dir() {
+  return std::string(NNS_BUILD_DIR) + "/tests/models";
+}
 
 inline std::string backend_path(const std::string &name) {
   return filters_dir() + "/libnnstreamer_filter_" + name + ".so";

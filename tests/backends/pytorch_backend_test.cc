@@ -22,7 +22,9 @@ using nns::test::Props;
 using nns::test::tensor_desc;
 using nns::test::tensors_desc;
 
-const BackendLib &lib() { return nns::test::backend_lib("pytorch"); }
+const BackendLib &lib() {
+  return nns::test::backend_lib("pytorch");
+}
 
 #define REQUIRE_BACKEND()                                                   \
   do {                                                                      \
