@@ -15,6 +15,16 @@ static_assert(NNS_TENSOR_SIZE_LIMIT == kTensorLimit);
 static_assert(NNS_TENSOR_MEMORY_MAX == kMemoryMax);
 static_assert(static_cast<int>(_NNS_END) == static_cast<int>(TensorType::kEnd));
 
+// The stored value of an enum field that C code filled: it may be outside the enumerators,
+// and loading such a value as the enum type is undefined behaviour in C++.
+template <typename E>
+int raw_value(const E &field) {
+  static_assert(sizeof(E) == sizeof(int));
+  int v;
+  std::memcpy(&v, &field, sizeof v);
+  return v;
+}
+
 // Entry `i` < NNS_TENSOR_SIZE_LIMIT, allocating the extra block when `i` needs it.
 GstTensorInfo *entry_for_write(GstTensorsInfo *info, unsigned i) {
   if (i >= NNS_TENSOR_MEMORY_MAX && !info->extra) {
@@ -83,7 +93,7 @@ void desc_from_gst_info(const GstTensorsInfo *info, nns_tensors_desc &out) {
   unsigned n =
       info->num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT : info->num_tensors;
   out.num_tensors = n;
-  out.format = static_cast<uint32_t>(info->format);
+  out.format = static_cast<uint32_t>(raw_value(info->format));
   for (unsigned i = 0; i < n; ++i) {
     nns_tensor_desc &t = out.tensors[i];
     const GstTensorInfo *s = gst_info_at(info, i);
@@ -96,7 +106,7 @@ void desc_from_gst_info(const GstTensorsInfo *info, nns_tensors_desc &out) {
       std::strncpy(t.name, s->name, NNS_TENSOR_NAME_MAX - 1);
       t.name[NNS_TENSOR_NAME_MAX - 1] = '\0';
     }
-    t.type = static_cast<uint32_t>(s->type);
+    t.type = static_cast<uint32_t>(raw_value(s->type));
     std::memcpy(t.dims, s->dimension, sizeof(t.dims));
   }
 }
@@ -124,10 +134,10 @@ void to_c(const TensorsConfig &in, GstTensorsConfig *out) {
 
 TensorsInfo from_c(const GstTensorsInfo *in) {
   TensorsInfo out;
-  if (static_cast<unsigned>(in->format) >= static_cast<unsigned>(_NNS_TENSOR_FORMAT_END))
-    fail(ErrorKind::kStream,
-         "tensors info format " + std::to_string(static_cast<int>(in->format)) + " is unknown");
-  out.format = static_cast<TensorFormat>(in->format);
+  const int format = raw_value(in->format);
+  if (static_cast<unsigned>(format) >= static_cast<unsigned>(_NNS_TENSOR_FORMAT_END))
+    fail(ErrorKind::kStream, "tensors info format " + std::to_string(format) + " is unknown");
+  out.format = static_cast<TensorFormat>(format);
   if (in->num_tensors > kTensorLimit)
     fail(ErrorKind::kStream, "tensors info num_tensors=" + std::to_string(in->num_tensors) +
                                  " exceeds the limit of " + std::to_string(kTensorLimit));
@@ -138,10 +148,11 @@ TensorsInfo from_c(const GstTensorsInfo *in) {
                                    " but no 'extra' entries for tensor " + std::to_string(i));
     TensorInfo ti;
     if (t->name) ti.name = t->name;
-    if (static_cast<unsigned>(t->type) > static_cast<unsigned>(_NNS_END))
-      fail(ErrorKind::kStream, "tensor " + std::to_string(i) + " has unknown type value " +
-                                   std::to_string(static_cast<int>(t->type)));
-    ti.type = static_cast<TensorType>(t->type);
+    const int type = raw_value(t->type);
+    if (static_cast<unsigned>(type) > static_cast<unsigned>(_NNS_END))
+      fail(ErrorKind::kStream,
+           "tensor " + std::to_string(i) + " has unknown type value " + std::to_string(type));
+    ti.type = static_cast<TensorType>(type);
     for (std::size_t d = 0; d < kRankLimit; ++d) ti.dims[d] = t->dimension[d];
     // Entries after a 0 are not part of the rank.
     for (std::size_t d = rank_of(ti.dims); d < kRankLimit; ++d) ti.dims[d] = 0;
