@@ -31,7 +31,7 @@
 #include <thread>
 #include <vector>
 
-#include "../tests/backends/backend_lib.h"
+#include "../tests/backends/backend_loader.h"
 #include "gst/plugin_init.h"
 
 namespace {
@@ -271,7 +271,7 @@ int main(int argc, char **argv) {
   m.eval();
   m = torch::jit::freeze(m);
   m = torch::jit::optimize_for_inference(m);
-  nns::test::BackendLib lib("pytorch");
+  const nns::test::BackendLib &lib = nns::test::backend_lib("pytorch");
   if (!lib.ok()) {
     std::fprintf(stderr, "%s\n", lib.error().c_str());
     return 1;
@@ -281,7 +281,7 @@ int main(int argc, char **argv) {
   props.models = {g_model};
   props.input = nns::test::tensors_desc({nns::test::tensor_desc(_NNS_UINT8, {1, 28, 28, 1})});
   props.output = nns::test::tensors_desc({nns::test::tensor_desc(_NNS_UINT8, {10, 1})});
-  props.set_custom("NumThreads:" + std::to_string(g_threads));
+  props.custom = "NumThreads:" + std::to_string(g_threads);
   nns::test::Instance inst(lib.api(), props);
   if (inst.rc() != 0) {
     std::fprintf(stderr, "%s\n", inst.error().c_str());

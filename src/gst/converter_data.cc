@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_converter data path: one input buffer -> tensor buffers pushed downstream.
 #include "core/error.h"
-#include "gst/c_tensor_info.h"
+#include "core/c_tensor_info.h"
 #include "gst/converter_state.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"

@@ -15,10 +15,9 @@ namespace {
 class OnnxRuntime : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string why;
-    auto b = load_backend("onnxruntime", &why);
-    if (!b) GTEST_SKIP() << "onnxruntime back end unavailable: " << why;
-    api_ = b->api;
+    const BackendLib &b = backend_lib("onnxruntime");
+    if (!b.ok()) GTEST_SKIP() << "onnxruntime back end unavailable: " << b.error();
+    api_ = b.api();
   }
   std::optional<RefModel> ref(const std::string &name) {
     auto m = load_ref(name);
@@ -70,7 +69,7 @@ TEST_F(OnnxRuntime, ModelInfoComesFromTheModel) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out, &err), 0) << err;
+  ASSERT_EQ(inst->model_info(in, out, &err), 0) << err;
   ASSERT_EQ(in.num_tensors, 2u);
   ASSERT_EQ(out.num_tensors, 2u);
   EXPECT_EQ(in.format, _NNS_TENSOR_FORMAT_STATIC);
@@ -91,7 +90,7 @@ TEST_F(OnnxRuntime, Uint8ModelAndConvNet) {
     auto inst = open(p, &err);
     ASSERT_TRUE(inst) << err;
     nns_tensors_desc in{}, out{};
-    ASSERT_EQ(inst->info(in, out), 0);
+    ASSERT_EQ(inst->model_info(in, out), 0);
     for (std::size_t i = 0; i < m->inputs.size(); ++i)
       EXPECT_EQ(desc_string(in.tensors[i]), desc_string(m->inputs[i].desc));
     for (std::size_t i = 0; i < m->outputs.size(); ++i)
@@ -145,7 +144,7 @@ TEST_F(OnnxRuntime, MobilenetOnOrangeGives951) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   ASSERT_EQ(in.num_tensors, 1u);
   EXPECT_EQ(desc_string(in.tensors[0]), "'input' float32 224:224:3:1");
   ASSERT_EQ(out.num_tensors, 1u);
@@ -202,7 +201,7 @@ TEST_F(OnnxRuntime, FreeDimensionResolvedByInput) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_EQ(desc_string(in.tensors[0]), "'a' float32 4:3:2");
   EXPECT_EQ(desc_string(out.tensors[1]), "'product' float32 4:3:2");
   std::vector<float> a(24), b(24), s(24), q(24);
@@ -226,7 +225,7 @@ TEST_F(OnnxRuntime, InvokeDynamicAllocatesOutputs) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_EQ(in.format, _NNS_TENSOR_FORMAT_FLEXIBLE);
   for (uint32_t batch : {3u, 1u}) {
     std::string dims = "4:3:" + std::to_string(batch);
@@ -332,7 +331,7 @@ TEST_F(OnnxRuntime, InputPropertyMustMatchModel) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_STREQ(in.tensors[0].name, "b");
   p.input.tensors[0] = make_desc("c", _NNS_FLOAT32, "4:3:1");
   err = open_error(p);
@@ -350,7 +349,7 @@ TEST_F(OnnxRuntime, OutputNamesSelectOutputs) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   ASSERT_EQ(out.num_tensors, 1u);
   EXPECT_STREQ(out.tensors[0].name, "product");
   std::vector<uint8_t> a = m->inputs[0].bytes, b = m->inputs[1].bytes, q(48);
