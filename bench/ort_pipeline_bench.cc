@@ -68,15 +68,17 @@ std::vector<uint8_t> read_all(const std::string &p) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
 }
 
-// orange.raw (224x224 RGB HWC uint8) -> float32 CHW in [-1, 1], the model's input.
+// orange.raw (224x224 RGB HWC uint8) -> float32 CHW with torchvision's ImageNet normalisation
+// ((x - 255 mean) / (255 std) per channel), the model's input.
 std::vector<float> make_input(const std::string &raw_path) {
   std::vector<uint8_t> img = read_all(raw_path);
   std::vector<float> chw(3 * 224 * 224);
   if (img.size() != chw.size()) return {};
+  const float mean[3] = {123.675f, 116.28f, 103.53f}, stdev[3] = {58.395f, 57.12f, 57.375f};
   for (int y = 0; y < 224; ++y)
     for (int x = 0; x < 224; ++x)
       for (int c = 0; c < 3; ++c)
-        chw[c * 224 * 224 + y * 224 + x] = img[(y * 224 + x) * 3 + c] / 127.5f - 1.f;
+        chw[c * 224 * 224 + y * 224 + x] = (img[(y * 224 + x) * 3 + c] - mean[c]) / stdev[c];
   return chw;
 }
 
