@@ -179,6 +179,65 @@ TEST(Python3Decoder, RoundTripRawBytes) {
   EXPECT_EQ(std::string(v.begin(), v.end()), data);
 }
 
+bool has_flexbuffers() {
+  return system("/usr/bin/python3 -c 'from flatbuffers import flexbuffers' >/dev/null 2>&1") == 0;
+}
+
+// A real video stream: RGB frames -> tensors -> RGBA image caps from getOutCaps, usable by
+// videoconvert; back to RGB it equals the original frames.
+TEST(Python3Decoder, VideoThroughVideoconvert) {
+  REQUIRE_PYTHON3_DECODER();
+  std::string dir = nns::test::make_temp_dir();
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=3 pattern=smpte ! video/x-raw,format=RGB,width=4,height=2,"
+      "framerate=5/1 ! tee name=t ! queue ! tensor_converter ! tensor_decoder mode=python3 "
+      "option1=" +
+      script("dec_rgba.py") +
+      " ! video/x-raw,format=RGBA,framerate=5/1 ! videoconvert ! video/x-raw,format=RGB ! "
+      "filesink location=" +
+      dir + "/decoded t. ! queue ! videoconvert ! video/x-raw,format=RGB ! filesink location=" +
+      dir + "/direct");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto decoded = nns::test::read_file(dir + "/decoded");
+  auto direct = nns::test::read_file(dir + "/direct");
+  ASSERT_EQ(direct.size(), 3u * 3 * 4 * 2);
+  EXPECT_EQ(decoded, direct);
+}
+
+// tensor_decoder python3 -> other/flexbuf -> tensor_converter custom-script -> the same tensors
+// (video frames, and two tensors with different types from tensor_mux).
+TEST(Python3Decoder, FlexbufRoundTrip) {
+  REQUIRE_PYTHON3_DECODER();
+  if (!converter_available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built";
+  if (!has_flexbuffers()) GTEST_SKIP() << "python3-flatbuffers (flexbuffers) is not installed";
+  std::string dir = nns::test::make_temp_dir();
+  const std::string dec =
+      "tensor_decoder mode=python3 option1=" + script("dec_flexbuf.py") +
+      " ! other/flexbuf ! tensor_converter mode=custom-script:" + script("conv_flexbuf.py");
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=3 pattern=13 ! video/x-raw,format=BGRx,width=16,height=8,"
+      "framerate=5/1 ! tensor_converter ! tee name=t ! queue ! " +
+      dec + " ! other/tensors,num_tensors=1,framerate=5/1 ! filesink location=" + dir +
+      "/round t. ! queue ! filesink location=" + dir + "/direct");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto direct = nns::test::read_file(dir + "/direct");
+  ASSERT_EQ(direct.size(), 3u * 4 * 16 * 8);
+  EXPECT_EQ(nns::test::read_file(dir + "/round"), direct);
+
+  // Two tensors (uint8 video, int16 audio) through one flexbuf frame each.
+  r = run_pipeline(
+      "tensor_mux name=m sync-mode=nosync ! tee name=t ! queue ! " + dec +
+      " ! filesink location=" + dir + "/round2 t. ! queue ! filesink location=" + dir +
+      "/direct2 videotestsrc num-buffers=1 ! video/x-raw,format=GRAY8,width=4,height=4,"
+      "framerate=5/1 ! tensor_converter ! m.sink_0 audiotestsrc num-buffers=1 "
+      "samplesperbuffer=8 ! audio/x-raw,format=S16LE,rate=8000,channels=1 ! tensor_converter "
+      "frames-per-tensor=8 ! m.sink_1");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto direct2 = nns::test::read_file(dir + "/direct2");
+  ASSERT_EQ(direct2.size(), 16u + 16u);
+  EXPECT_EQ(nns::test::read_file(dir + "/round2"), direct2);
+}
+
 // ---- Errors: the bus error names the option/script and carries the Python exception. ----
 
 nns::test::RunResult run_with(const std::string &option1, uint8_t first_byte = 0) {
