@@ -32,6 +32,9 @@
 #include "nns_python_tensors.h"
 #include "nnstreamer_plugin_api_decoder.h"
 
+GST_DEBUG_CATEGORY_STATIC(nns_decoder_python3_debug);
+#define GST_CAT_DEFAULT nns_decoder_python3_debug
+
 namespace nns::py {
 namespace {
 
@@ -48,6 +51,7 @@ struct Decoder {
   Script script;
   Ref obj, decode, get_out_caps;  // CustomDecoder() and its bound methods
   std::unique_ptr<nns_tensors_desc> desc = std::make_unique<nns_tensors_desc>();
+  bool warned_kept = false;
 
   std::string where() const { return "Python script '" + path + "': "; }
   bool loaded() const { return static_cast<bool>(decode); }
@@ -223,6 +227,19 @@ struct Decoder {
       if (!rn || !rd) throw_pending(where() + "cannot build the framerate");
       PyObject *args[] = {raw.get(), info.get(), rn.get(), rd.get()};
       res = Ref(PyObject_Vectorcall(decode.get(), args, 4, nullptr));
+      // The arrays view memory the host unmaps after this call: warn (once) about a script that
+      // keeps them (the list holds one reference each).
+      if (res && !warned_kept) {
+        for (unsigned i = 0; i < n && !warned_kept; i++) {
+          if (Py_REFCNT(raw.get()) > 1 || Py_REFCNT(PyList_GET_ITEM(raw.get(), i)) > 1) {
+            GST_WARNING(
+                "%s decode() keeps raw_data beyond the call; the arrays view input "
+                "memory that is released after it: keep a copy (a.copy()) instead",
+                where().c_str());
+            warned_kept = true;
+          }
+        }
+      }
     }
     if (!res) throw_pending(where() + "decode() raised");
     GstMemory *mem = result_memory(res.get());
@@ -254,6 +271,12 @@ struct Decoder {
 
 int py_init(void **pdata) {
   if (!pdata) return FALSE;
+  static gsize debug_once = 0;
+  if (g_once_init_enter(&debug_once)) {
+    GST_DEBUG_CATEGORY_INIT(nns_decoder_python3_debug, "nns_decoder_python3", 0,
+                            "tensor_decoder mode=python3");
+    g_once_init_leave(&debug_once, 1);
+  }
   *pdata = new Decoder();
   return TRUE;
 }
