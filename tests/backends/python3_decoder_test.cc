@@ -238,6 +238,28 @@ TEST(Python3Decoder, FlexbufRoundTrip) {
   EXPECT_EQ(nns::test::read_file(dir + "/round2"), direct2);
 }
 
+// Two converter+decoder pairs on their own streaming threads (GIL taken per call): both
+// branches reproduce the input exactly.
+TEST(Python3Decoder, ParallelBranches) {
+  REQUIRE_PYTHON3_DECODER();
+  if (!converter_available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built";
+  std::string dir = nns::test::make_temp_dir();
+  std::string data;
+  for (int i = 0; i < 64 * 40; i++) data.push_back(static_cast<char>((i * 7) & 0xff));
+  std::ofstream(dir + "/in.bin", std::ios::binary) << data;
+  std::string branch = " ! queue ! tensor_converter mode=custom-script:" + script("conv_view.py") +
+                       " ! tensor_decoder mode=python3 option1=" + script("dec_concat.py") +
+                       " ! filesink location=" + dir;
+  auto r = run_pipeline("filesrc location=" + dir +
+                        "/in.bin blocksize=64 ! application/octet-stream ! tee name=t t." + branch +
+                        "/a t." + branch + "/b");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  for (const char *f : {"/a", "/b"}) {
+    auto v = nns::test::read_file(dir + f);
+    EXPECT_EQ(std::string(v.begin(), v.end()), data) << f;
+  }
+}
+
 // ---- Errors: the bus error names the option/script and carries the Python exception. ----
 
 nns::test::RunResult run_with(const std::string &option1, uint8_t first_byte = 0) {
