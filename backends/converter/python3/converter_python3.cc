@@ -61,6 +61,7 @@ void release_input_map(PyObject *capsule) {
 // Destroy notify of a GstMemory wrapping a numpy array: drops the array reference.
 void release_array(gpointer obj) {
   if (!runtime_alive()) return;  // process exit: the interpreter is gone or going
+  pin_thread_state();
   Gil gil;
   Py_DECREF(static_cast<PyObject *>(obj));
 }
@@ -171,6 +172,7 @@ struct Converter {
 
   GstBuffer *run(GstBuffer *in, GstTensorsConfig *config) {
     if (!runtime_alive()) throw PyError(where() + "the Python interpreter is shutting down");
+    pin_thread_state();
     Gil gil;
     Ref res;
     {

@@ -41,6 +41,7 @@ namespace {
 // Destroy notify of a GstMemory wrapping a Python object's bytes: drops the reference.
 void release_object(gpointer obj) {
   if (!runtime_alive()) return;  // process exit: the interpreter is gone or going
+  pin_thread_state();
   Gil gil;
   Py_DECREF(static_cast<PyObject *>(obj));
 }
@@ -214,6 +215,7 @@ struct Decoder {
       std::memcpy(d.tensors[i].dims, t->dimension, sizeof d.tensors[i].dims);
     }
     if (!runtime_alive()) throw PyError(where() + "the Python interpreter is shutting down");
+    pin_thread_state();
     Gil gil;
     Ref res;
     {
