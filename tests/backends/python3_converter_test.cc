@@ -154,7 +154,8 @@ TEST(Python3Converter, WellFormedResults) {
       {1, int32_bytes({0, 1, 2, 3}), "dimensions=(string)4, types=(string)int32"},
       {2, int32_bytes({3, 2, 1, 0}), "dimensions=(string)4, types=(string)int32"},  // copied once
       {10, int32_bytes({10, 11, 12, 13}), "types=(string)int32"},
-      {12, int32_bytes({4, 5, 6, 7}), "dimensions=(string)16, types=(string)uint8"},
+      {12, int32_bytes({4, 5, 6, 7}),
+       "dimensions=(string)16, types=(string)uint8, framerate=(fraction)10/1"},
   };
   for (const auto &c : cases) {
     SCOPED_TRACE("mode " + std::to_string(c.mode));

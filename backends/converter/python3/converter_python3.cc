@@ -197,8 +197,9 @@ struct Converter {
     int rate[2];
     for (int k = 0; k < 2; k++) {
       PyObject *r = PyTuple_GET_ITEM(res.get(), 2 + k);
-      long v = PyLong_Check(r) ? PyLong_AsLong(r) : -1;
-      if (!PyLong_Check(r) || (v == -1 && PyErr_Occurred()) || v < INT32_MIN || v > INT32_MAX) {
+      Ref idx(PyNumber_Index(r));  // int, numpy integers, anything with __index__
+      long v = idx ? PyLong_AsLong(idx.get()) : -1;
+      if (!idx || (v == -1 && PyErr_Occurred()) || v < INT32_MIN || v > INT32_MAX) {
         PyErr_Clear();
         throw PyError(where() + "convert() " + (k ? "rate_d" : "rate_n") + " is " + type_name(r) +
                       " " + str(r) + "; expected an int");

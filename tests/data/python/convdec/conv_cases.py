@@ -6,7 +6,7 @@
 #   7 a list instead of a tuple      8 rate_n "ten"
 #   9 tensors_info holds an int      10 a kept module array, returned on every call
 #   11 a slice of the input (bytes 4..11) as 2 int32, i.e. a view inside the input
-#   12 an int32 array as a uint8 tensor of the same byte size
+#   12 an int32 array as a uint8 tensor of the same byte size, numpy integers as rate
 import numpy as np
 import nnstreamer_python as nns
 
@@ -41,5 +41,5 @@ class CustomConverter:
         if mode == 11:
             return [nns.TensorShape([2], np.int32)], [input_array[0][4:12]], 10, 1
         if mode == 12:
-            return [nns.TensorShape([16], np.uint8)], [seq[4:8].copy()], 10, 1
+            return [nns.TensorShape([16], np.uint8)], [seq[4:8].copy()], np.int32(10), np.int64(1)
         raise KeyError("no case %d" % mode)
