@@ -71,7 +71,7 @@ struct Converter {
   std::string path;
   Script script;
   Ref obj, convert;                  // CustomConverter() and its bound convert method
-  std::vector<InputMap *> inputs;    // this buffer's mapped inputs (scratch, reused)
+  std::vector<InputMap *> inputs;    // this buffer's input maps, owned by the input list (scratch)
   std::vector<GstMemory *> outputs;  // this buffer's output memories (scratch, reused)
 
   std::string where() const { return "Python script '" + path + "': "; }
@@ -174,11 +174,9 @@ struct Converter {
     if (!runtime_alive()) throw PyError(where() + "the Python interpreter is shutting down");
     pin_thread_state();
     Gil gil;
-    Ref res;
-    {
-      Ref list = input_list(in);
-      res = Ref(PyObject_CallOneArg(convert.get(), list.get()));
-    }
+    // The list keeps the input maps (`inputs`) alive until the outputs are made from them.
+    Ref list = input_list(in);
+    Ref res(PyObject_CallOneArg(convert.get(), list.get()));
     if (!res) throw_pending(where() + "convert() raised");
     if (!PyTuple_Check(res.get()) || PyTuple_GET_SIZE(res.get()) != 4)
       throw PyError(where() + "convert() returned " + type_name(res.get()) +
