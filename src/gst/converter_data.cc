@@ -183,7 +183,10 @@ GstBuffer *from_custom(ConverterState *p, GstBuffer *in, bool *owns_in) {
   GstBuffer *out = p->custom.func ? p->custom.func(in, p->custom.data, c.get())
                                   : p->ext->convert(in, c.get(), p->ext_priv);
   const std::string who = p->media.describe;
-  if (!out) fail(ErrorKind::kStream, who + " returned no buffer");
+  if (!out) {
+    std::string why = p->custom.func ? std::string() : subplugin_reason(p->ext_priv);
+    fail(ErrorKind::kStream, who + " returned no buffer" + (why.empty() ? "" : ": " + why));
+  }
   if (out == in) *owns_in = false;  // the element's reference moved to the output
   BufferPtr guard_out(out);
   TensorsConfig cfg = from_c(c.get());
