@@ -183,7 +183,17 @@ GstBuffer *from_custom(ConverterState *p, GstBuffer *in, bool *owns_in) {
   GstBuffer *out = p->custom.func ? p->custom.func(in, p->custom.data, c.get())
                                   : p->ext->convert(in, c.get(), p->ext_priv);
   const std::string who = p->media.describe;
-  if (!out) fail(ErrorKind::kStream, who + " returned no buffer");
+  if (!out) {
+    // Sub-plugins may say why (nns_converter_subplugin_last_error, same thread).
+    std::string why;
+    if (p->ext) {
+      if (auto fn = ConverterRegistry::instance().last_error_fn(p->ext)) {
+        const char *m = fn();
+        if (m) why = m;
+      }
+    }
+    fail(ErrorKind::kStream, who + " returned no buffer" + (why.empty() ? "" : ": " + why));
+  }
   if (out == in) *owns_in = false;  // the element's reference moved to the output
   BufferPtr guard_out(out);
   TensorsConfig cfg = from_c(c.get());
