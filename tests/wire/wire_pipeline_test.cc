@@ -15,6 +15,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "core/meta_header.h"
 #include "nnstreamer/nnstreamer_plugin_api_decoder.h"
 #include "wire.h"
 
@@ -239,6 +240,54 @@ TEST(WirePipeline, DecoderConverterRoundTripEveryTypeAndRank) {
     }
     round_trip(fmt, {{{"uint8", "3:4"}, {"float32", "2:2:2"}, {"int64", "5"}}});
   }
+}
+
+// End to end: a flexbuf file whose frame is format=flexible (each tensor = 128-byte header +
+// payload) -> tensor_converter (flexible output) -> tensor_decoder mode=octet_stream: the
+// payloads, headers stripped, one after the other.
+TEST(WirePipeline, FlexibleFrameThroughConverterAndDecoder) {
+  const std::string dir = nns::test::make_temp_dir();
+  std::vector<std::vector<uint8_t>> mems;
+  std::vector<uint8_t> want;
+  nns::wire::Frame f;
+  f.format = 1;
+  f.rate_n = 0;
+  f.rate_d = 1;
+  const std::pair<nns::TensorType, nns::Dims> specs[] = {{nns::TensorType::kUInt8, {5}},
+                                                         {nns::TensorType::kInt16, {2, 3}}};
+  for (const auto &sp : specs) {
+    nns::MetaHeader h;
+    h.type = sp.first;
+    h.dims = sp.second;
+    h.format = nns::TensorFormat::kFlexible;
+    std::vector<uint8_t> m(nns::kMetaHeaderSize + h.payload_size());
+    nns::write_meta_header(h, m.data());
+    for (std::size_t k = nns::kMetaHeaderSize; k < m.size(); ++k)
+      m[k] = static_cast<uint8_t>(k * 5 + mems.size());
+    want.insert(want.end(), m.begin() + nns::kMetaHeaderSize, m.end());
+    mems.push_back(std::move(m));
+  }
+  for (std::size_t i = 0; i < mems.size(); ++i) {
+    nns::wire::Tensor t;
+    t.type = static_cast<uint32_t>(specs[i].first);
+    std::copy(specs[i].second.begin(), specs[i].second.end(), t.dims.begin());
+    t.data = mems[i].data();
+    t.size = mems[i].size();
+    f.tensors.push_back(t);
+  }
+  std::vector<uint8_t> bytes;
+  nns::wire::encode(Format::kFlexbuf, f, bytes);
+  const std::string in = dir + "/flex.flexbuf", out = dir + "/out.bin";
+  std::ofstream(in, std::ios::binary)
+      .write(reinterpret_cast<const char *>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  auto r = nns::test::run_pipeline("filesrc location=" + in +
+                                   " ! other/flexbuf,framerate=0/1 ! tensor_converter ! "
+                                   "other/tensors,format=flexible ! tensor_decoder "
+                                   "mode=octet_stream ! filesink location=" +
+                                   out);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  EXPECT_EQ(want, nns::test::read_file(out));
 }
 
 const GstTensorDecoderDef *load_decoder(Format fmt) {
