@@ -355,6 +355,11 @@ TEST(WireDecoder, EntryEncodesAndConverterRoundTrips) {
     in[1].size = 31;
     GstBuffer *bad = gst_buffer_new();
     EXPECT_EQ(GST_FLOW_ERROR, d->decode(&priv, &cfg, in, bad));
+    // ... and the reason is in the DecoderErrorSlot tensor_decoder reads (magic, message).
+    ASSERT_EQ(0, std::memcmp(priv, "NNSDERR", 8));
+    EXPECT_NE(std::string::npos,
+              std::string(static_cast<const char *>(priv) + 8).find("tensor 1: carries 31 bytes"))
+        << static_cast<const char *>(priv) + 8;
     gst_buffer_unref(bad);
     d->exit(&priv);
   }
