@@ -184,7 +184,15 @@ GstBuffer *from_custom(ConverterState *p, GstBuffer *in, bool *owns_in) {
                                   : p->ext->convert(in, c.get(), p->ext_priv);
   const std::string who = p->media.describe;
   if (!out) {
+    // Why: the sub-plugin's error slot (python3), else its thread-local last error
+    // (nns_converter_subplugin_last_error, the wire converters).
     std::string why = p->custom.func ? std::string() : subplugin_reason(p->ext_priv);
+    if (why.empty() && p->ext) {
+      if (auto fn = ConverterRegistry::instance().last_error_fn(p->ext)) {
+        const char *m = fn();
+        if (m) why = m;
+      }
+    }
     fail(ErrorKind::kStream, who + " returned no buffer" + (why.empty() ? "" : ": " + why));
   }
   if (out == in) *owns_in = false;  // the element's reference moved to the output
