@@ -21,7 +21,7 @@
 #include <mutex>
 #include <string>
 
-#include "gst/c_tensor_info.h"
+#include "core/c_tensor_info.h"
 #include "gst/config_file.h"
 #include "gst/decoder_registry.h"
 #include "core/meta_header.h"
@@ -56,7 +56,7 @@ struct DecoderPriv {
   void *pdata = nullptr;
   bool configured = false;
   std::optional<nns::gst::CustomDecoder> custom;
-  nns::gst::CTensorsConfig in_config;
+  nns::CTensorsConfig in_config;
   nns::TensorsConfig in_cfg;  // static config the decoder sees
   // Flexible input: upstream caps are format=flexible; flex_cfg is the static config the
   // headers of the last buffer described (flex_known once a buffer came).
@@ -257,7 +257,7 @@ static GstCaps *out_caps_for(DecoderPriv *p, const GstStructure *s) {
   } else if (cfg.info.format != nns::TensorFormat::kStatic) {
     return gst_caps_new_empty();
   }
-  nns::gst::CTensorsConfig c(cfg);
+  nns::CTensorsConfig c(cfg);
   GstCaps *caps = p->def->getOutCaps(&p->pdata, c.get());
   bool fixed = gst_structure_foreach(
       s, [](GQuark, const GValue *v, gpointer) -> gboolean { return gst_value_is_fixed(v); },
@@ -349,7 +349,7 @@ static gboolean gst_tensor_decoder_set_caps(GstBaseTransform *trans, GstCaps *in
       cfg = p->flex_cfg;
     }
     p->in_cfg = cfg;
-    nns::gst::to_c(p->in_cfg, p->in_config.get());
+    nns::to_c(p->in_cfg, p->in_config.get());
     return TRUE;
   });
 }
