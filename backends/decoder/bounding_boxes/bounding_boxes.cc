@@ -30,6 +30,7 @@
 #include "box_meta.h"
 #include "box_scheme.h"
 #include "draw.h"
+#include "scheme_input.h"
 #include "nnstreamer_plugin_api_decoder.h"
 #include "tracker.h"
 
@@ -49,11 +50,7 @@ struct BBox {
   bool track = false, log = false, json = false;
   nns::bbox::CentroidTracker tracker;
 
-  // Input the scheme was checked against (C form, compared per frame) and its C++ form.
-  GstTensorsInfo checked_c{};
-  bool checked = false;
-  nns::TensorsInfo in_info;
-  std::vector<nns::bbox::TensorView> views;
+  nns::bbox::SchemeInput input;  // what the scheme was checked against
   std::vector<Box> boxes;
   std::vector<nns::bbox::OutBox> out_boxes;
   std::string text, json_text;
@@ -125,7 +122,7 @@ void bb_exit(void **pdata) {
 int bb_set_option(void **pdata, int op, const char *param) {
   auto *d = static_cast<BBox *>(*pdata);
   const std::string p = param ? param : "";
-  d->checked = false;
+  d->input.reset();
   switch (op) {
     case 0: {
       const std::string canon = nns::bbox::schemes().canonical(p);
@@ -175,50 +172,17 @@ int bb_set_option(void **pdata, int op, const char *param) {
   }
 }
 
-bool same_c_info(const GstTensorsInfo &a, const GstTensorsInfo &b) {
-  if (a.num_tensors != b.num_tensors) return false;
-  const unsigned n = std::min<unsigned>(a.num_tensors, NNS_TENSOR_MEMORY_MAX);
-  for (unsigned i = 0; i < n; ++i) {
-    if (a.info[i].type != b.info[i].type) return false;
-    if (std::memcmp(a.info[i].dimension, b.info[i].dimension, sizeof a.info[i].dimension))
-      return false;
-  }
-  return true;
-}
-
 // Checks the input against the scheme; false (reason in err) when it does not fit.
 bool check(BBox *d, const GstTensorsConfig *config) {
-  if (d->checked && same_c_info(d->checked_c, config->info)) return true;
   if (!d->scheme) {
     d->err.set("option1 (scheme) is not set; valid schemes: %s", join_names().c_str());
     return false;
   }
-  const unsigned n = std::min<unsigned>(config->info.num_tensors, NNS_TENSOR_MEMORY_MAX);
-  nns::TensorsInfo info;
-  for (unsigned i = 0; i < n; ++i) {
-    nns::TensorInfo t;
-    const GstTensorInfo &c = config->info.info[i];
-    if (c.type >= _NNS_END) return false;
-    t.type = static_cast<nns::TensorType>(c.type);
-    for (unsigned k = 0; k < NNS_TENSOR_RANK_LIMIT && k < t.dims.size(); ++k)
-      t.dims[k] = c.dimension[k];
-    if (t.rank() == 0) return false;  // not fixed yet
-    info.tensors.push_back(t);
-  }
   d->ctx.num_labels = d->labels.size();
-  try {
-    d->scheme->check_input(info, d->ctx);
-  } catch (const std::exception &e) {
-    d->err.set("%s", e.what());
-    return false;
-  }
-  d->in_info = std::move(info);
-  d->views.assign(d->in_info.size(), {});
-  for (std::size_t i = 0; i < d->views.size(); ++i) d->views[i].info = &d->in_info[i];
-  d->checked_c = config->info;
-  d->checked_c.extra = nullptr;
-  d->checked = true;
-  return true;
+  std::string why;
+  if (d->input.bind(*d->scheme, d->ctx, config->info, why)) return true;
+  if (!why.empty()) d->err.set("%s", why.c_str());
+  return false;
 }
 
 GstCaps *bb_get_out_caps(void **pdata, const GstTensorsConfig *config) {
@@ -269,14 +233,9 @@ GstFlowReturn bb_decode(void **pdata, const GstTensorsConfig *config, const GstT
                         GstBuffer *outbuf) {
   auto *d = static_cast<BBox *>(*pdata);
   if (!check(d, config)) return GST_FLOW_NOT_NEGOTIATED;
-  for (std::size_t i = 0; i < d->views.size(); ++i) {
-    d->views[i].data = input[i].data;
-    d->views[i].size = input[i].size;
-  }
-  try {
-    d->scheme->decode(d->views, d->ctx, d->boxes);
-  } catch (const std::exception &e) {
-    d->err.set("%s", e.what());
+  std::string why;
+  if (!d->input.decode(*d->scheme, d->ctx, input, d->boxes, why)) {
+    d->err.set("%s", why.c_str());
     return GST_FLOW_ERROR;
   }
   if (d->track) d->tracker.update(d->boxes);

@@ -25,6 +25,7 @@
 #include "../common/decoder_common.h"
 #include "box_scheme.h"
 #include "core/meta_header.h"
+#include "scheme_input.h"
 #include "nnstreamer_plugin_api_decoder.h"
 
 namespace {
@@ -36,10 +37,7 @@ struct Region {
   std::string label_path;
   std::size_t labels = 0;
   nns::bbox::Context ctx;
-  GstTensorsInfo checked_c{};
-  bool checked = false;
-  nns::TensorsInfo in_info;
-  std::vector<nns::bbox::TensorView> views;
+  nns::bbox::SchemeInput input;  // what the scheme was checked against
   std::vector<nns::bbox::Box> boxes;
 };
 
@@ -56,7 +54,7 @@ void tr_exit(void **pdata) {
 int tr_set_option(void **pdata, int op, const char *param) {
   auto *d = static_cast<Region *>(*pdata);
   const std::string p = param ? param : "";
-  d->checked = false;
+  d->input.reset();
   switch (op) {
     case 0: {
       char *end = nullptr;
@@ -111,39 +109,11 @@ int tr_set_option(void **pdata, int op, const char *param) {
 }
 
 bool check(Region *d, const GstTensorsConfig *config) {
-  if (d->checked && config->info.num_tensors == d->checked_c.num_tensors) {
-    bool same = true;
-    for (unsigned i = 0; i < config->info.num_tensors && i < NNS_TENSOR_MEMORY_MAX; ++i)
-      same = same && config->info.info[i].type == d->checked_c.info[i].type &&
-             !std::memcmp(config->info.info[i].dimension, d->checked_c.info[i].dimension,
-                          sizeof config->info.info[i].dimension);
-    if (same) return true;
-  }
-  nns::TensorsInfo info;
-  for (unsigned i = 0; i < config->info.num_tensors && i < NNS_TENSOR_MEMORY_MAX; ++i) {
-    const GstTensorInfo &c = config->info.info[i];
-    if (c.type >= _NNS_END) return false;
-    nns::TensorInfo t;
-    t.type = static_cast<nns::TensorType>(c.type);
-    for (std::size_t k = 0; k < t.dims.size() && k < NNS_TENSOR_RANK_LIMIT; ++k)
-      t.dims[k] = c.dimension[k];
-    if (t.rank() == 0) return false;
-    info.tensors.push_back(t);
-  }
   d->ctx.num_labels = d->labels;
-  try {
-    d->scheme->check_input(info, d->ctx);
-  } catch (const std::exception &e) {
-    d->err.set("tensor_region: %s", e.what());
-    return false;
-  }
-  d->in_info = std::move(info);
-  d->views.assign(d->in_info.size(), {});
-  for (std::size_t i = 0; i < d->views.size(); ++i) d->views[i].info = &d->in_info[i];
-  d->checked_c = config->info;
-  d->checked_c.extra = nullptr;
-  d->checked = true;
-  return true;
+  std::string why;
+  if (d->input.bind(*d->scheme, d->ctx, config->info, why)) return true;
+  if (!why.empty()) d->err.set("tensor_region: %s", why.c_str());
+  return false;
 }
 
 GstCaps *tr_get_out_caps(void **pdata, const GstTensorsConfig *config) {
@@ -161,14 +131,9 @@ GstFlowReturn tr_decode(void **pdata, const GstTensorsConfig *config, const GstT
                         GstBuffer *outbuf) {
   auto *d = static_cast<Region *>(*pdata);
   if (!check(d, config)) return GST_FLOW_NOT_NEGOTIATED;
-  for (std::size_t i = 0; i < d->views.size(); ++i) {
-    d->views[i].data = input[i].data;
-    d->views[i].size = input[i].size;
-  }
-  try {
-    d->scheme->decode(d->views, d->ctx, d->boxes);
-  } catch (const std::exception &e) {
-    d->err.set("tensor_region: %s", e.what());
+  std::string why;
+  if (!d->input.decode(*d->scheme, d->ctx, input, d->boxes, why)) {
+    d->err.set("tensor_region: %s", why.c_str());
     return GST_FLOW_ERROR;
   }
   const std::size_t payload = static_cast<std::size_t>(d->num) * 4 * sizeof(uint32_t);
