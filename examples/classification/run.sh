@@ -9,39 +9,25 @@
 #        back end is unavailable (ctest).
 # exit:  0 ok (the label is printed on stdout), 77 skipped, other = failure.
 set -euo pipefail
-missing=1
-[[ -z ${NNS_SKIP_MISSING:-} ]] || missing=77
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+# shellcheck source=examples/common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
+nns_example_init classification NNS_SKIP_MISSING
 SHARED=${NNS_SHARED_DIR:-$ROOT/../shared}/models/upstream
 MODEL=$SHARED/models/mobilenet_v2_quant.onnx
 # The 1000 ImageNet labels (no background line): made by the build from $SHARED/labels/labels.txt.
 LABELS=$BUILD_DIR/data/imagenet_labels_1000.txt
 PICTURE=${1:-$SHARED/data/orange.png}
 
-[[ -f $BUILD_DIR/env.sh ]] || {
-  echo "classification: $BUILD_DIR/env.sh missing; build the project first" >&2
-  exit 1
-}
+[[ -f $BUILD_DIR/env.sh ]] || nns_die 1 "$BUILD_DIR/env.sh missing; build the project first"
 for f in "$MODEL" "$PICTURE"; do
-  [[ -f $f ]] || {
-    echo "classification: $f not found" >&2
-    exit $missing
-  }
+  [[ -f $f ]] || nns_die $missing "$f not found"
 done
-[[ -f $LABELS ]] || {
-  echo "classification: $LABELS not generated (cmake makes it when $SHARED/labels/labels.txt" \
-    "exists; re-run cmake and build)" >&2
-  exit 1
-}
-[[ -f $BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so ]] || {
-  echo "classification: onnxruntime filter back end not built (scripts/deps/onnxruntime.npm)" >&2
-  exit $missing
-}
+[[ -f $LABELS ]] || nns_die 1 "$LABELS not generated (cmake makes it when \
+$SHARED/labels/labels.txt exists; re-run cmake and build)"
+[[ -f $BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so ]] ||
+  nns_die $missing "onnxruntime filter back end not built (scripts/deps/onnxruntime.npm)"
 
-# shellcheck source=/dev/null
-. "$BUILD_DIR/env.sh"
-export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+nns_enter_build_env
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
 # The model (a PyTorch export) takes float32 NCHW 1x3x224x224 (NNStreamer dims 224:224:3:1)
@@ -62,8 +48,5 @@ gst-launch-1.0 -q filesrc location="$PICTURE" ! $dec ! videoconvert ! videoscale
   tensor_decoder mode=image_labeling option1="$LABELS" ! \
   filesink location="$out"
 label=$(cat "$out")
-[[ -n $label ]] || {
-  echo "classification: no label came out of the pipeline" >&2
-  exit 1
-}
+[[ -n $label ]] || nns_die 1 "no label came out of the pipeline"
 echo "$label"

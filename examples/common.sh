@@ -1,0 +1,54 @@
+# shellcheck shell=bash
+# SPDX-License-Identifier: LGPL-2.1-only
+# Shared by the example scripts (sourced, after `set -euo pipefail`):
+#   . "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
+#   nns_example_init <tag> [skip-variable]
+# sets ROOT (the worktree), BUILD_DIR ($NNS_BUILD_DIR or build/), NNS_TAG (message prefix) and
+# `missing` (exit code for an unavailable model/photo/back end: 1, or 77 when the named
+# variable, e.g. NNS_SKIP_MISSING, is set: ctest counts 77 as skipped).
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+
+# shellcheck disable=SC2034  # globals for the calling script
+nns_example_init() {
+  NNS_TAG=$1
+  BUILD_DIR=${NNS_BUILD_DIR:-$ROOT/build}
+  missing=1
+  if [[ -n ${2:-} && -n ${!2:-} ]]; then missing=77; fi
+}
+
+# nns_die <exit code> <message>: "<tag>: <message>" on stderr, then exit.
+nns_die() {
+  echo "$NNS_TAG: $2" >&2
+  exit "$1"
+}
+
+# The build tree's environment (GST_PLUGIN_PATH, NNSTREAMER_CONF, ...) and a registry cache of
+# this build tree's own, so other checkouts' plugins never mix in.
+nns_enter_build_env() {
+  # shellcheck source=/dev/null
+  . "$BUILD_DIR/env.sh"
+  export GST_REGISTRY=${GST_REGISTRY:-$BUILD_DIR/gst-registry.bin}
+}
+
+# nns_fetch_astronaut [why]: prints the path of skimage's astronaut.png, extracted once from
+# Debian's python3-skimage package into third_party/demo/ (apt-get download + dpkg -x, nothing
+# installed). `why` prefixes the progress message. Returns 1 when the download fails.
+nns_fetch_astronaut() {
+  local dir=$ROOT/third_party/demo png=$ROOT/third_party/demo/astronaut.png
+  if [[ ! -f $png ]]; then
+    echo "$NNS_TAG: ${1:-}extracting astronaut.png from Debian's python3-skimage" >&2
+    local tmp
+    tmp=$(mktemp -d)
+    (cd "$tmp" && apt-get download python3-skimage >/dev/null 2>&1) || {
+      rm -rf "$tmp"
+      echo "$NNS_TAG: 'apt-get download python3-skimage' failed (run apt-get update?)" >&2
+      return 1
+    }
+    dpkg -x "$tmp"/python3-skimage_*.deb "$tmp/x"
+    mkdir -p "$dir"
+    cp "$(find "$tmp/x" -path '*skimage/data/astronaut.png' | head -n 1)" "$png"
+    rm -rf "$tmp"
+  fi
+  echo "$png"
+}
