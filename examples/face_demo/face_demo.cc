@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/run_to_eos.h"
 #include "blazeface.h"
 
 namespace {
@@ -52,28 +53,9 @@ int usage(const char *msg) {
   return 2;
 }
 
-// Runs `desc` to EOS; returns "" or the error text.
+// Runs the pipeline to EOS; returns "" or the error text.
 std::string run(GstElement *pipeline) {
-  gst_element_set_state(pipeline, GST_STATE_PLAYING);
-  GstBus *bus = gst_element_get_bus(pipeline);
-  GstMessage *msg = gst_bus_timed_pop_filtered(
-      bus, 60 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  std::string err;
-  if (!msg) {
-    err = "timed out";
-  } else if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
-    GError *e = nullptr;
-    gchar *dbg = nullptr;
-    gst_message_parse_error(msg, &e, &dbg);
-    err = std::string(GST_OBJECT_NAME(msg->src)) + ": " + e->message + (dbg ? " | " : "") +
-          (dbg ? dbg : "");
-    g_error_free(e);
-    g_free(dbg);
-  }
-  if (msg) gst_message_unref(msg);
-  gst_object_unref(bus);
-  gst_element_set_state(pipeline, GST_STATE_NULL);
-  return err;
+  return nns_example::run_to_eos(pipeline, 60, "timed out");
 }
 
 GstElement *parse(const std::string &desc, std::string &err) {

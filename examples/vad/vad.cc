@@ -50,6 +50,8 @@
 #include <string>
 #include <vector>
 
+#include "../common/run_to_eos.h"
+
 namespace {
 
 constexpr int kRate = 16000;
@@ -156,26 +158,7 @@ GstFlowReturn on_pcm(GstAppSink *sink, gpointer data) {
 
 // Runs the pipeline to EOS; returns "" or the error text.
 std::string run(GstElement *pipeline) {
-  gst_element_set_state(pipeline, GST_STATE_PLAYING);
-  GstBus *bus = gst_element_get_bus(pipeline);
-  GstMessage *msg = gst_bus_timed_pop_filtered(
-      bus, 120 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  std::string err;
-  if (!msg) {
-    err = "timed out after 120 s";
-  } else if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
-    GError *e = nullptr;
-    gchar *dbg = nullptr;
-    gst_message_parse_error(msg, &e, &dbg);
-    err = std::string(GST_OBJECT_NAME(msg->src)) + ": " + e->message + (dbg ? " | " : "") +
-          (dbg ? dbg : "");
-    g_error_free(e);
-    g_free(dbg);
-  }
-  if (msg) gst_message_unref(msg);
-  gst_object_unref(bus);
-  gst_element_set_state(pipeline, GST_STATE_NULL);
-  return err;
+  return nns_example::run_to_eos(pipeline, 120, "timed out after 120 s");
 }
 
 // Start time (s) of the 512 new samples of frame k.
