@@ -6,40 +6,27 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "backends/python3_convdec_util.h"
 #include "support/harness.h"
 
 namespace {
 
 using nns::test::HarnessPtr;
 using nns::test::run_pipeline;
+using nns::test::convdec::bytes_buffer;
+using nns::test::convdec::current_caps;
+using nns::test::convdec::script;
+namespace convdec = nns::test::convdec;
 
-std::string script(const std::string &name) {
-  return std::string(NNS_SOURCE_DIR) + "/tests/data/python/convdec/" + name;
-}
-
-bool available() {
-  GstElementFactory *f = gst_element_factory_find("tensor_converter");
-  if (!f) return false;
-  gst_object_unref(f);
-  return std::filesystem::exists(std::string(NNS_BUILD_DIR) +
-                                 "/subplugins/converters/libnnstreamer_converter_python3.so");
-}
-
-#define REQUIRE_PYTHON3_CONVERTER()                                                    \
-  do {                                                                                 \
-    if (!available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built"; \
+#define REQUIRE_PYTHON3_CONVERTER()                                    \
+  do {                                                                 \
+    if (!convdec::available("tensor_converter", "converter"))          \
+      GTEST_SKIP() << "the python3 converter sub-plugin is not built"; \
   } while (0)
-
-GstBuffer *bytes_buffer(const std::vector<uint8_t> &v) {
-  GstBuffer *b = gst_buffer_new_allocate(nullptr, v.size(), nullptr);
-  gst_buffer_fill(b, 0, v.data(), v.size());
-  return b;
-}
 
 std::vector<uint8_t> memory_bytes(GstBuffer *b, guint i) {
   GstMemory *m = gst_buffer_peek_memory(b, i);
@@ -48,16 +35,6 @@ std::vector<uint8_t> memory_bytes(GstBuffer *b, guint i) {
   std::vector<uint8_t> v(map.data, map.data + map.size);
   gst_memory_unmap(m, &map);
   return v;
-}
-
-std::string current_caps(GstHarness *h) {
-  GstCaps *c = gst_pad_get_current_caps(h->sinkpad);
-  if (!c) return "";
-  gchar *s = gst_caps_to_string(c);
-  std::string r = s;
-  g_free(s);
-  gst_caps_unref(c);
-  return r;
 }
 
 HarnessPtr converter(const std::string &file, const std::string &in_caps) {

@@ -7,60 +7,32 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "backends/python3_convdec_util.h"
 #include "support/harness.h"
 
 namespace {
 
 using nns::test::HarnessPtr;
 using nns::test::run_pipeline;
+using nns::test::convdec::bytes_buffer;
+using nns::test::convdec::current_caps;
+using nns::test::convdec::script;
+namespace convdec = nns::test::convdec;
 
-std::string script(const std::string &name) {
-  return std::string(NNS_SOURCE_DIR) + "/tests/data/python/convdec/" + name;
-}
-
-bool available() {
-  GstElementFactory *f = gst_element_factory_find("tensor_decoder");
-  if (!f) return false;
-  gst_object_unref(f);
-  return std::filesystem::exists(std::string(NNS_BUILD_DIR) +
-                                 "/subplugins/decoders/libnnstreamer_decoder_python3.so");
-}
-
-bool converter_available() {
-  return std::filesystem::exists(std::string(NNS_BUILD_DIR) +
-                                 "/subplugins/converters/libnnstreamer_converter_python3.so");
-}
-
-#define REQUIRE_PYTHON3_DECODER()                                                    \
-  do {                                                                               \
-    if (!available()) GTEST_SKIP() << "the python3 decoder sub-plugin is not built"; \
+#define REQUIRE_PYTHON3_DECODER()                                    \
+  do {                                                               \
+    if (!convdec::available("tensor_decoder", "decoder"))            \
+      GTEST_SKIP() << "the python3 decoder sub-plugin is not built"; \
   } while (0)
-
-GstBuffer *bytes_buffer(const std::vector<uint8_t> &v) {
-  GstBuffer *b = gst_buffer_new_allocate(nullptr, v.size(), nullptr);
-  gst_buffer_fill(b, 0, v.data(), v.size());
-  return b;
-}
 
 std::vector<uint8_t> buffer_bytes(GstBuffer *b) {
   std::vector<uint8_t> v(gst_buffer_get_size(b));
   gst_buffer_extract(b, 0, v.data(), v.size());
   return v;
-}
-
-std::string current_caps(GstHarness *h) {
-  GstCaps *c = gst_pad_get_current_caps(h->sinkpad);
-  if (!c) return "";
-  gchar *s = gst_caps_to_string(c);
-  std::string r = s;
-  g_free(s);
-  gst_caps_unref(c);
-  return r;
 }
 
 HarnessPtr decoder(const std::string &file, const std::string &in_caps) {
@@ -143,7 +115,8 @@ TEST(Python3Decoder, NoGetOutCapsGivesOctetStream) {
 // tensor_converter custom-script -> tensor_decoder python3 -> the same JSON document.
 TEST(Python3Decoder, RoundTripWithPython3Converter) {
   REQUIRE_PYTHON3_DECODER();
-  if (!converter_available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built";
+  if (!convdec::python3_subplugin_built("converter"))
+    GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   std::string dir = nns::test::make_temp_dir();
   const std::string doc = R"({"name":"round trip","values":[3,-1,2147483647]})";
   std::ofstream(dir + "/in.json") << doc;
@@ -164,7 +137,8 @@ TEST(Python3Decoder, RoundTripWithPython3Converter) {
 // Raw bytes -> int32 view tensor (no copy) -> concatenated bytes: identical to the input.
 TEST(Python3Decoder, RoundTripRawBytes) {
   REQUIRE_PYTHON3_DECODER();
-  if (!converter_available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built";
+  if (!convdec::python3_subplugin_built("converter"))
+    GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   std::string dir = nns::test::make_temp_dir();
   std::string data;
   for (int i = 0; i < 64; i++) data.push_back(static_cast<char>(i * 3 + 1));
@@ -208,7 +182,8 @@ TEST(Python3Decoder, VideoThroughVideoconvert) {
 // (video frames, and two tensors with different types from tensor_mux).
 TEST(Python3Decoder, FlexbufRoundTrip) {
   REQUIRE_PYTHON3_DECODER();
-  if (!converter_available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built";
+  if (!convdec::python3_subplugin_built("converter"))
+    GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   if (!has_flexbuffers()) GTEST_SKIP() << "python3-flatbuffers (flexbuffers) is not installed";
   std::string dir = nns::test::make_temp_dir();
   const std::string dec =
@@ -242,7 +217,8 @@ TEST(Python3Decoder, FlexbufRoundTrip) {
 // branches reproduce the input exactly.
 TEST(Python3Decoder, ParallelBranches) {
   REQUIRE_PYTHON3_DECODER();
-  if (!converter_available()) GTEST_SKIP() << "the python3 converter sub-plugin is not built";
+  if (!convdec::python3_subplugin_built("converter"))
+    GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   std::string dir = nns::test::make_temp_dir();
   std::string data;
   for (int i = 0; i < 64 * 40; i++) data.push_back(static_cast<char>((i * 7) & 0xff));

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Shared by the python3 converter and decoder sub-plugin tests: script paths, "is it built"
+// checks, and buffer/caps helpers for GstHarness.
+#pragma once
+
+#include <gst/check/gstharness.h>
+#include <gst/gst.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nns::test::convdec {
+
+// tests/data/python/convdec/<name>.
+inline std::string script(const std::string &name) {
+  return std::string(NNS_SOURCE_DIR) + "/tests/data/python/convdec/" + name;
+}
+
+// True when build/subplugins/<kind>s/libnnstreamer_<kind>_python3.so exists (kind: "converter"
+// or "decoder").
+inline bool python3_subplugin_built(const std::string &kind) {
+  return std::filesystem::exists(std::string(NNS_BUILD_DIR) + "/subplugins/" + kind +
+                                 "s/libnnstreamer_" + kind + "_python3.so");
+}
+
+// True when `element` is registered and the python3 sub-plugin of `kind` is built.
+inline bool available(const char *element, const std::string &kind) {
+  GstElementFactory *f = gst_element_factory_find(element);
+  if (!f) return false;
+  gst_object_unref(f);
+  return python3_subplugin_built(kind);
+}
+
+inline GstBuffer *bytes_buffer(const std::vector<uint8_t> &v) {
+  GstBuffer *b = gst_buffer_new_allocate(nullptr, v.size(), nullptr);
+  gst_buffer_fill(b, 0, v.data(), v.size());
+  return b;
+}
+
+// The caps on the harness' sink pad as a string ("" when none are set).
+inline std::string current_caps(GstHarness *h) {
+  GstCaps *c = gst_pad_get_current_caps(h->sinkpad);
+  if (!c) return "";
+  gchar *s = gst_caps_to_string(c);
+  std::string r = s;
+  g_free(s);
+  gst_caps_unref(c);
+  return r;
+}
+
+}  // namespace nns::test::convdec
