@@ -9,20 +9,11 @@
 
 using nns::test::bbox::collect;
 using nns::test::bbox::compare_boxes;
+using nns::test::bbox::data_dir;
+using nns::test::bbox::kSsdInputs;
 using nns::test::bbox::text_areas;
 
 namespace {
-
-std::string data_dir() {
-  return nns::test::shared_models_dir() + "/decoder/nnstreamer_decoder_boundingbox";
-}
-
-const std::string kSsdInputs =
-    " multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 stop-index=1 "
-    "caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 input-type=float32 ! "
-    "mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d start-index=0 stop-index=1 "
-    "caps=application/octet-stream ! tensor_converter input-dim=91:1917:1 input-type=float32 ! "
-    "mux.sink_1";
 
 const std::string kPpInputs =
     " multifilesrc location=mobilenetssd_postprocess_tensors.0.%d start-index=0 stop-index=1 "

@@ -7,19 +7,10 @@
 
 using nns::test::run_pipeline;
 using nns::test::bbox::collect;
+using nns::test::bbox::data_dir;
+using nns::test::bbox::kSsdInputs;
 
 namespace {
-
-std::string data_dir() {
-  return nns::test::shared_models_dir() + "/decoder/nnstreamer_decoder_boundingbox";
-}
-
-const std::string kSsdInputs =
-    " multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 stop-index=1 "
-    "caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 input-type=float32 ! "
-    "mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d start-index=0 stop-index=1 "
-    "caps=application/octet-stream ! tensor_converter input-dim=91:1917:1 input-type=float32 ! "
-    "mux.sink_1";
 
 std::string ssd(const std::string &opts, const std::string &sink = "appsink name=out") {
   return "tensor_mux name=mux ! tensor_decoder mode=bounding_boxes " + opts + " ! " + sink +

@@ -19,6 +19,19 @@
 
 namespace nns::test::bbox {
 
+// NNStreamer's captured detector tensors and reference frames (../shared/models/upstream).
+inline std::string data_dir() {
+  return nns::test::shared_models_dir() + "/decoder/nnstreamer_decoder_boundingbox";
+}
+
+// The two captured mobilenet-ssd output tensors (2 frames, run in data_dir()) into "mux".
+inline const std::string kSsdInputs =
+    " multifilesrc location=mobilenetssd_tensors.0.%d start-index=0 stop-index=1 "
+    "caps=application/octet-stream ! tensor_converter input-dim=4:1:1917:1 input-type=float32 ! "
+    "mux.sink_0 multifilesrc location=mobilenetssd_tensors.1.%d start-index=0 stop-index=1 "
+    "caps=application/octet-stream ! tensor_converter input-dim=91:1917:1 input-type=float32 ! "
+    "mux.sink_1";
+
 struct Roi {
   std::string type, label;
   int x = 0, y = 0, w = 0, h = 0, id = 0, class_id = -1, track_id = 0;
@@ -57,6 +70,27 @@ inline Roi roi_of(GstVideoRegionOfInterestMeta *m) {
   return r;
 }
 
+// The sample's bytes, ROI metas and JSON custom meta.
+inline Frame frame_of(GstSample *smp) {
+  Frame f;
+  GstBuffer *b = gst_sample_get_buffer(smp);
+  GstMapInfo map;
+  if (gst_buffer_map(b, &map, GST_MAP_READ)) {
+    f.data.assign(map.data, map.data + map.size);
+    gst_buffer_unmap(b, &map);
+  }
+  gpointer state = nullptr;
+  while (GstMeta *m = gst_buffer_iterate_meta_filtered(b, &state,
+                                                       GST_VIDEO_REGION_OF_INTEREST_META_API_TYPE))
+    f.rois.push_back(roi_of(reinterpret_cast<GstVideoRegionOfInterestMeta *>(m)));
+  if (GstCustomMeta *cm = gst_buffer_get_custom_meta(b, "NnsDetectionsMeta")) {
+    f.has_json = true;
+    if (const char *j = gst_structure_get_string(gst_custom_meta_get_structure(cm), "json"))
+      f.json = j;
+  }
+  return f;
+}
+
 // Runs `desc` (must contain "appsink name=out") to EOS or error, in folder `cwd` if given.
 inline Collected collect(const std::string &desc, const std::string &cwd = {},
                          double timeout_s = 20) {
@@ -81,23 +115,7 @@ inline Collected collect(const std::string &desc, const std::string &cwd = {},
     if (sink) {
       GstSample *smp = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 10 * GST_MSECOND);
       if (smp) {
-        Frame f;
-        GstBuffer *b = gst_sample_get_buffer(smp);
-        GstMapInfo map;
-        if (gst_buffer_map(b, &map, GST_MAP_READ)) {
-          f.data.assign(map.data, map.data + map.size);
-          gst_buffer_unmap(b, &map);
-        }
-        gpointer state = nullptr;
-        while (GstMeta *m = gst_buffer_iterate_meta_filtered(
-                   b, &state, GST_VIDEO_REGION_OF_INTEREST_META_API_TYPE))
-          f.rois.push_back(roi_of(reinterpret_cast<GstVideoRegionOfInterestMeta *>(m)));
-        if (GstCustomMeta *cm = gst_buffer_get_custom_meta(b, "NnsDetectionsMeta")) {
-          f.has_json = true;
-          if (const char *j = gst_structure_get_string(gst_custom_meta_get_structure(cm), "json"))
-            f.json = j;
-        }
-        c.frames.push_back(std::move(f));
+        c.frames.push_back(frame_of(smp));
         gst_sample_unref(smp);
         continue;
       }
@@ -121,18 +139,7 @@ inline Collected collect(const std::string &desc, const std::string &cwd = {},
     while (sink) {
       GstSample *smp = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), 0);
       if (!smp) break;
-      Frame f;
-      GstBuffer *b = gst_sample_get_buffer(smp);
-      GstMapInfo map;
-      if (gst_buffer_map(b, &map, GST_MAP_READ)) {
-        f.data.assign(map.data, map.data + map.size);
-        gst_buffer_unmap(b, &map);
-      }
-      gpointer state = nullptr;
-      while (GstMeta *m = gst_buffer_iterate_meta_filtered(
-                 b, &state, GST_VIDEO_REGION_OF_INTEREST_META_API_TYPE))
-        f.rois.push_back(roi_of(reinterpret_cast<GstVideoRegionOfInterestMeta *>(m)));
-      c.frames.push_back(std::move(f));
+      c.frames.push_back(frame_of(smp));
       gst_sample_unref(smp);
     }
     c.eos = true;

@@ -12,13 +12,10 @@
 
 using nns::test::bbox::collect;
 using nns::test::bbox::compare_boxes;
+using nns::test::bbox::data_dir;
 using nns::test::bbox::text_areas;
 
 namespace {
-
-std::string data_dir() {
-  return nns::test::shared_models_dir() + "/decoder/nnstreamer_decoder_boundingbox";
-}
 
 std::string yolo(const std::string &file, const std::string &dims, const std::string &opts,
                  const std::string &between = "") {
