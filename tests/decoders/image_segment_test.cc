@@ -9,10 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "decoders/decoder_test_util.h"
 #include "support/harness.h"
 
 using nns::test::HarnessPtr;
 using nns::test::run_pipeline;
+using nns::test::decoder::expect_error;
+using nns::test::decoder::tensor_file_src;
 
 namespace {
 
@@ -126,61 +129,45 @@ TEST(ImageSegment, SnpeDepthGrayScaledToMax) {
 
 // ---- errors: the bus text names the option or tensor, expected vs got --------------------------
 
-namespace {
-std::string src(const std::string &type, const std::string &dims, size_t bytes) {
-  std::string path = nns::test::make_temp_dir() + "/in.bin";
-  std::ofstream(path) << std::string(bytes, '\0');
-  return "filesrc location=" + path +
-         " blocksize=-1 num-buffers=1 ! application/octet-stream ! tensor_converter input-dim=" +
-         dims + " input-type=" + type + " ! ";
-}
-void expect_error(const std::string &desc, const std::string &want) {
-  auto r = run_pipeline(desc);
-  EXPECT_FALSE(r.eos);
-  EXPECT_NE(r.error_text.find(want), std::string::npos) << r.error_text;
-  EXPECT_NE(r.error_text.find("tensordecoder"), std::string::npos) << r.error_text;
-}
-}  // namespace
-
 TEST(ImageSegmentErrors, UnknownOption1) {
-  expect_error(src("float32", "21:2:2:1", 21 * 4 * 4) +
+  expect_error(tensor_file_src("21:2:2:1", 21 * 4 * 4, "float32") +
                    "tensor_decoder mode=image_segment option1=yolo-deeplab ! fakesink",
                "unknown image_segment mode 'yolo-deeplab'");
 }
 
 TEST(ImageSegmentErrors, MissingOption1) {
-  expect_error(
-      src("float32", "21:2:2:1", 21 * 4 * 4) + "tensor_decoder mode=image_segment ! fakesink",
-      "image_segment needs option1=");
+  expect_error(tensor_file_src("21:2:2:1", 21 * 4 * 4, "float32") +
+                   "tensor_decoder mode=image_segment ! fakesink",
+               "image_segment needs option1=");
 }
 
 TEST(ImageSegmentErrors, Option2NotANumber) {
-  expect_error(src("float32", "21:2:2:1", 21 * 4 * 4) +
+  expect_error(tensor_file_src("21:2:2:1", 21 * 4 * 4, "float32") +
                    "tensor_decoder mode=image_segment option1=tflite-deeplab option2=many ! "
                    "fakesink",
                "option2: max labels must be an integer in 1..65535, got 'many'");
 }
 
 TEST(ImageSegmentErrors, WrongTypeForTflite) {
-  expect_error(src("uint8", "21:2:2:1", 21 * 4) +
+  expect_error(tensor_file_src("21:2:2:1", 21 * 4, "uint8") +
                    "tensor_decoder mode=image_segment option1=tflite-deeplab ! fakesink",
                "tflite-deeplab expects a float32 tensor, got type uint8");
 }
 
 TEST(ImageSegmentErrors, ClassCountDiffersFromOption2) {
-  expect_error(src("float32", "5:2:2:1", 5 * 4 * 4) +
+  expect_error(tensor_file_src("5:2:2:1", 5 * 4 * 4, "float32") +
                    "tensor_decoder mode=image_segment option1=tflite-deeplab ! fakesink",
                "tflite-deeplab expects dim0 = option2 + 1 = 21 classes, got 5 (set option2=4)");
 }
 
 TEST(ImageSegmentErrors, DepthNeedsOneChannel) {
-  expect_error(src("float32", "2:4:4:1", 2 * 16 * 4) +
+  expect_error(tensor_file_src("2:4:4:1", 2 * 16 * 4, "float32") +
                    "tensor_decoder mode=image_segment option1=snpe-depth ! fakesink",
                "snpe-depth expects dims 1:W:H:1 (one depth channel), got dim0 = 2");
 }
 
 TEST(ImageSegmentErrors, BatchDimensionRejected) {
-  expect_error(src("float32", "4:4:1:2", 32 * 4) +
+  expect_error(tensor_file_src("4:4:1:2", 32 * 4, "float32") +
                    "tensor_decoder mode=image_segment option1=snpe-deeplab ! fakesink",
                "snpe-deeplab expects dims W:H:1:1, got dim3 = 2");
 }

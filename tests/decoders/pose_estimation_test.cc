@@ -11,10 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "decoders/decoder_test_util.h"
 #include "support/harness.h"
 
 using nns::test::HarnessPtr;
 using nns::test::run_pipeline;
+using nns::test::decoder::expect_error;
+using nns::test::decoder::tensor_file_src;
 
 namespace {
 
@@ -214,41 +217,26 @@ TEST(PoseEstimation, OffsetPositionsClampToTheFrame) {
 
 // ---- errors ----------------------------------------------------------------------------------
 
-namespace {
-std::string src(const std::string &dims, size_t bytes, const std::string &types = "float32") {
-  std::string path = nns::test::make_temp_dir() + "/in.bin";
-  std::ofstream(path) << std::string(bytes, '\0');
-  return "filesrc location=" + path +
-         " blocksize=-1 num-buffers=1 ! application/octet-stream ! tensor_converter input-dim=" +
-         dims + " input-type=" + types + " ! ";
-}
-void expect_error(const std::string &desc, const std::string &want) {
-  auto r = run_pipeline(desc);
-  EXPECT_FALSE(r.eos);
-  EXPECT_NE(r.error_text.find(want), std::string::npos) << r.error_text;
-  EXPECT_NE(r.error_text.find("tensordecoder"), std::string::npos) << r.error_text;
-}
-}  // namespace
-
 TEST(PoseEstimationErrors, BadOption1) {
-  expect_error(src("17:9:9:1", 17 * 81 * 4) +
+  expect_error(tensor_file_src("17:9:9:1", 17 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=640x480 ! fakesink",
                "option1: output size must be WIDTH:HEIGHT (positive), got '640x480'");
 }
 
 TEST(PoseEstimationErrors, MissingOption1) {
-  expect_error(src("17:9:9:1", 17 * 81 * 4) + "tensor_decoder mode=pose_estimation ! fakesink",
-               "pose_estimation needs option1=<output WIDTH:HEIGHT>");
+  expect_error(
+      tensor_file_src("17:9:9:1", 17 * 81 * 4) + "tensor_decoder mode=pose_estimation ! fakesink",
+      "pose_estimation needs option1=<output WIDTH:HEIGHT>");
 }
 
 TEST(PoseEstimationErrors, UnknownOption4) {
-  expect_error(src("17:9:9:1", 17 * 81 * 4) +
+  expect_error(tensor_file_src("17:9:9:1", 17 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 option4=offsets ! fakesink",
                "option4: unknown mode 'offsets'");
 }
 
 TEST(PoseEstimationErrors, MissingKeypointFile) {
-  expect_error(src("17:9:9:1", 17 * 81 * 4) +
+  expect_error(tensor_file_src("17:9:9:1", 17 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 "
                    "option3=/nonexistent/pose.txt ! fakesink",
                "option3: cannot read keypoint file '/nonexistent/pose.txt'");
@@ -256,45 +244,45 @@ TEST(PoseEstimationErrors, MissingKeypointFile) {
 
 TEST(PoseEstimationErrors, BadKeypointFileLink) {
   std::string f = write_temp("body.txt", "a 1\nb 5\n");
-  expect_error(src("2:9:9:1", 2 * 81 * 4) +
+  expect_error(tensor_file_src("2:9:9:1", 2 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 option3=" + f + " ! fakesink",
                "keypoint 'b' links to id 5, the file has 2 keypoints");
 }
 
 TEST(PoseEstimationErrors, KeypointCountDiffersFromFile) {
   std::string f = write_temp("body.txt", "a 1\nb 0\n");
-  expect_error(src("3:9:9:1", 3 * 81 * 4) +
+  expect_error(tensor_file_src("3:9:9:1", 3 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 option3=" + f + " ! fakesink",
                "the heatmaps have 3 keypoints, option3");
 }
 
 TEST(PoseEstimationErrors, UnknownDefaultBody) {
-  expect_error(
-      src("5:9:9:1", 5 * 81 * 4) + "tensor_decoder mode=pose_estimation option1=64:64 ! fakesink",
-      "the heatmaps have 5 keypoints; without option3 only 14 or 17 are known");
+  expect_error(tensor_file_src("5:9:9:1", 5 * 81 * 4) +
+                   "tensor_decoder mode=pose_estimation option1=64:64 ! fakesink",
+               "the heatmaps have 5 keypoints; without option3 only 14 or 17 are known");
 }
 
 TEST(PoseEstimationErrors, HeatmapOffsetNeedsTwoTensors) {
-  expect_error(src("17:9:9:1", 17 * 81 * 4) +
+  expect_error(tensor_file_src("17:9:9:1", 17 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 option2=257:257 "
                    "option4=heatmap-offset ! fakesink",
                "heatmap-offset expects 2 tensors (heatmaps, offsets), got 1 tensor(s)");
 }
 
 TEST(PoseEstimationErrors, BatchDimensionRejected) {
-  expect_error(src("17:9:9:2", 17 * 81 * 2 * 4) +
+  expect_error(tensor_file_src("17:9:9:2", 17 * 81 * 2 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 ! fakesink",
                "tensor 0 (heatmaps) must be C:W:H:1, got dim3 = 2");
 }
 
 TEST(PoseEstimationErrors, BadOption2) {
-  expect_error(src("17:9:9:1", 17 * 81 * 4) +
+  expect_error(tensor_file_src("17:9:9:1", 17 * 81 * 4) +
                    "tensor_decoder mode=pose_estimation option1=64:64 option2=0:257 ! fakesink",
                "option2: input size must be WIDTH:HEIGHT (positive), got '0:257'");
 }
 
 TEST(PoseEstimationErrors, HeatmapOffsetNeedsOption2) {
-  expect_error(src("17:9:9:1,34:9:9:1", 17 * 81 * 4 * 3, "float32,float32") +
+  expect_error(tensor_file_src("17:9:9:1,34:9:9:1", 17 * 81 * 4 * 3, "float32,float32") +
                    "tensor_decoder mode=pose_estimation option1=64:64 option4=heatmap-offset ! "
                    "fakesink",
                "heatmap-offset needs option2=<model input WIDTH:HEIGHT>");
@@ -302,7 +290,7 @@ TEST(PoseEstimationErrors, HeatmapOffsetNeedsOption2) {
 
 // A real pipeline: decoder output composited over a video frame.
 TEST(PoseEstimation, PipelineThroughCompositor) {
-  auto r = run_pipeline(src("17:9:9:1", 17 * 81 * 4) +
+  auto r = run_pipeline(tensor_file_src("17:9:9:1", 17 * 81 * 4) +
                         "tensor_decoder mode=pose_estimation option1=64:48 ! mix.sink_1 "
                         "videotestsrc num-buffers=1 ! video/x-raw,width=64,height=48 ! mix.sink_0 "
                         "compositor name=mix sink_0::zorder=0 sink_1::zorder=1 ! videoconvert ! "
