@@ -5,6 +5,7 @@
 
 #include <gst/check/gstharness.h>
 #include <gst/gst.h>
+#include <gtest/gtest.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -32,6 +33,13 @@ inline bool available(const char *element, const std::string &kind) {
   gst_object_unref(f);
   return python3_subplugin_built(kind);
 }
+
+// Skips the test unless `element` is registered and the python3 sub-plugin of `kind` is built.
+#define REQUIRE_PYTHON3_SUBPLUGIN(element, kind)                            \
+  do {                                                                      \
+    if (!nns::test::convdec::available(element, kind))                      \
+      GTEST_SKIP() << "the python3 " << kind << " sub-plugin is not built"; \
+  } while (0)
 
 inline GstBuffer *bytes_buffer(const std::vector<uint8_t> &v) {
   GstBuffer *b = gst_buffer_new_allocate(nullptr, v.size(), nullptr);

@@ -20,13 +20,6 @@ using nns::test::run_pipeline;
 using nns::test::convdec::bytes_buffer;
 using nns::test::convdec::current_caps;
 using nns::test::convdec::script;
-namespace convdec = nns::test::convdec;
-
-#define REQUIRE_PYTHON3_CONVERTER()                                    \
-  do {                                                                 \
-    if (!convdec::available("tensor_converter", "converter"))          \
-      GTEST_SKIP() << "the python3 converter sub-plugin is not built"; \
-  } while (0)
 
 std::vector<uint8_t> memory_bytes(GstBuffer *b, guint i) {
   GstMemory *m = gst_buffer_peek_memory(b, i);
@@ -51,7 +44,7 @@ std::vector<uint8_t> int32_bytes(const std::vector<int32_t> &v) {
 }
 
 TEST(Python3Converter, JsonToTwoTensors) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   auto h = converter("conv_json.py", "application/octet-stream");
   std::string doc = R"({"name": "cat", "values": [1, -2, 300000, 4]})";
   ASSERT_EQ(gst_harness_push(h.get(), bytes_buffer({doc.begin(), doc.end()})), GST_FLOW_OK);
@@ -69,7 +62,7 @@ TEST(Python3Converter, JsonToTwoTensors) {
 
 // The script returns its input views: the output memory is a share of the input memory.
 TEST(Python3Converter, InputViewsAreSharedNotCopied) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   auto h = converter("conv_view.py", "application/octet-stream,framerate=5/1");
   std::vector<uint8_t> in = int32_bytes({7, 8, 9});
   GstBuffer *b = bytes_buffer(in);
@@ -95,7 +88,7 @@ TEST(Python3Converter, InputViewsAreSharedNotCopied) {
 
 // One tensor per input memory; the same script converts buffers of other sizes (new caps).
 TEST(Python3Converter, EveryMemoryIsOneInputArray) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   auto h = converter("conv_view.py", "application/octet-stream");
   GstBuffer *b = bytes_buffer(int32_bytes({1, 2}));
   GstBuffer *b2 = bytes_buffer(int32_bytes({3, 4, 5, 6}));
@@ -126,7 +119,7 @@ struct Case {
 };
 
 TEST(Python3Converter, WellFormedResults) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   const std::vector<Case> cases = {
       {1, int32_bytes({0, 1, 2, 3}), "dimensions=(string)4, types=(string)int32"},
       {2, int32_bytes({3, 2, 1, 0}), "dimensions=(string)4, types=(string)int32"},  // copied once
@@ -148,7 +141,7 @@ TEST(Python3Converter, WellFormedResults) {
 
 // A slice inside the input buffer is shared at its offset.
 TEST(Python3Converter, SliceOfInputIsSharedAtOffset) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   auto h = converter("conv_cases.py", "application/octet-stream");
   std::vector<uint8_t> in = {11, 0, 0, 0, 5, 0, 0, 0, 6, 0, 0, 0, 99};
   GstBuffer *b = bytes_buffer(in);
@@ -168,7 +161,7 @@ TEST(Python3Converter, SliceOfInputIsSharedAtOffset) {
 
 // A whole pipeline: filesrc of a JSON file -> tensors -> filesink, exact bytes.
 TEST(Python3Converter, PipelineFromFile) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   std::string dir = nns::test::make_temp_dir();
   std::ofstream(dir + "/in.json") << R"({"name": "dog", "values": [5, 6]})";
   auto r = run_pipeline("filesrc location=" + dir +
@@ -201,37 +194,37 @@ void expect_error(const nns::test::RunResult &r, const std::vector<std::string> 
 }
 
 TEST(Python3ConverterErrors, MissingScript) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   auto r = run_with(script("no_such_script.py"));
   expect_error(r, {"tensorconverter", "mode=custom-script:", "no_such_script.py"});
 }
 
 TEST(Python3ConverterErrors, SyntaxError) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   auto r = run_with(script("bad_syntax_conv.py"));
   expect_error(r, {"mode=custom-script:", "bad_syntax_conv.py", "SyntaxError", "line 5"});
 }
 
 TEST(Python3ConverterErrors, ClassMissing) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   expect_error(run_with(script("conv_no_class.py")),
                {"conv_no_class.py", "defines no class CustomConverter"});
 }
 
 TEST(Python3ConverterErrors, MethodMissing) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   expect_error(run_with(script("conv_no_method.py")),
                {"conv_no_method.py", "has no convert(self, input_array) method"});
 }
 
 TEST(Python3ConverterErrors, ConstructorRaises) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   expect_error(run_with(script("conv_raise_init.py")),
                {"CustomConverter() raised", "RuntimeError: converter constructor refuses"});
 }
 
 TEST(Python3ConverterErrors, IllFormedResults) {
-  REQUIRE_PYTHON3_CONVERTER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
   const std::vector<std::pair<uint8_t, std::vector<std::string>>> cases = {
       {3, {"convert() raised", "ValueError: mode 3 raises", "conv_cases.py\", line"}},
       {4, {"raw_data[0] is a bytes, not a numpy array"}},

@@ -21,13 +21,6 @@ using nns::test::run_pipeline;
 using nns::test::convdec::bytes_buffer;
 using nns::test::convdec::current_caps;
 using nns::test::convdec::script;
-namespace convdec = nns::test::convdec;
-
-#define REQUIRE_PYTHON3_DECODER()                                    \
-  do {                                                               \
-    if (!convdec::available("tensor_decoder", "decoder"))            \
-      GTEST_SKIP() << "the python3 decoder sub-plugin is not built"; \
-  } while (0)
 
 std::vector<uint8_t> buffer_bytes(GstBuffer *b) {
   std::vector<uint8_t> v(gst_buffer_get_size(b));
@@ -43,7 +36,7 @@ HarnessPtr decoder(const std::string &file, const std::string &in_caps) {
 }
 
 TEST(Python3Decoder, RgbTensorToRgbaImage) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   auto h = decoder("dec_rgba.py",
                    "other/tensor,dimension=(string)3:4:2:1,type=(string)uint8,framerate=(fraction)"
                    "10/1");
@@ -65,7 +58,7 @@ TEST(Python3Decoder, RgbTensorToRgbaImage) {
 }
 
 TEST(Python3Decoder, TensorsToTextWithShapesAndRate) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   auto h = decoder("dec_text.py",
                    "other/tensors,format=static,num_tensors=2,dimensions=(string)4:1:1:1.3,"
                    "types=(string)int32.uint8,framerate=(fraction)30/1");
@@ -89,7 +82,7 @@ TEST(Python3Decoder, TensorsToTextWithShapesAndRate) {
 
 // Without getOutCaps: application/octet-stream; bytes results are the output memory itself.
 TEST(Python3Decoder, NoGetOutCapsGivesOctetStream) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   auto h = decoder("dec_concat.py",
                    "other/tensor,dimension=(string)4,type=(string)uint8,framerate=(fraction)0/1");
   const std::vector<std::vector<uint8_t>> inputs = {
@@ -114,8 +107,8 @@ TEST(Python3Decoder, NoGetOutCapsGivesOctetStream) {
 
 // tensor_converter custom-script -> tensor_decoder python3 -> the same JSON document.
 TEST(Python3Decoder, RoundTripWithPython3Converter) {
-  REQUIRE_PYTHON3_DECODER();
-  if (!convdec::python3_subplugin_built("converter"))
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
+  if (!nns::test::convdec::python3_subplugin_built("converter"))
     GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   std::string dir = nns::test::make_temp_dir();
   const std::string doc = R"({"name":"round trip","values":[3,-1,2147483647]})";
@@ -136,8 +129,8 @@ TEST(Python3Decoder, RoundTripWithPython3Converter) {
 
 // Raw bytes -> int32 view tensor (no copy) -> concatenated bytes: identical to the input.
 TEST(Python3Decoder, RoundTripRawBytes) {
-  REQUIRE_PYTHON3_DECODER();
-  if (!convdec::python3_subplugin_built("converter"))
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
+  if (!nns::test::convdec::python3_subplugin_built("converter"))
     GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   std::string dir = nns::test::make_temp_dir();
   std::string data;
@@ -160,7 +153,7 @@ bool has_flexbuffers() {
 // A real video stream: RGB frames -> tensors -> RGBA image caps from getOutCaps, usable by
 // videoconvert; back to RGB it equals the original frames.
 TEST(Python3Decoder, VideoThroughVideoconvert) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   std::string dir = nns::test::make_temp_dir();
   auto r = run_pipeline(
       "videotestsrc num-buffers=3 pattern=smpte ! video/x-raw,format=RGB,width=4,height=2,"
@@ -181,8 +174,8 @@ TEST(Python3Decoder, VideoThroughVideoconvert) {
 // tensor_decoder python3 -> other/flexbuf -> tensor_converter custom-script -> the same tensors
 // (video frames, and two tensors with different types from tensor_mux).
 TEST(Python3Decoder, FlexbufRoundTrip) {
-  REQUIRE_PYTHON3_DECODER();
-  if (!convdec::python3_subplugin_built("converter"))
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
+  if (!nns::test::convdec::python3_subplugin_built("converter"))
     GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   if (!has_flexbuffers()) GTEST_SKIP() << "python3-flatbuffers (flexbuffers) is not installed";
   std::string dir = nns::test::make_temp_dir();
@@ -216,8 +209,8 @@ TEST(Python3Decoder, FlexbufRoundTrip) {
 // Two converter+decoder pairs on their own streaming threads (GIL taken per call): both
 // branches reproduce the input exactly.
 TEST(Python3Decoder, ParallelBranches) {
-  REQUIRE_PYTHON3_DECODER();
-  if (!convdec::python3_subplugin_built("converter"))
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
+  if (!nns::test::convdec::python3_subplugin_built("converter"))
     GTEST_SKIP() << "the python3 converter sub-plugin is not built";
   std::string dir = nns::test::make_temp_dir();
   std::string data;
@@ -257,35 +250,35 @@ void expect_error(const nns::test::RunResult &r, const std::vector<std::string> 
 }
 
 TEST(Python3DecoderErrors, MissingScript) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(script("no_such_decoder.py")), {"rejected option1=", "no_such_decoder.py"});
 }
 
 TEST(Python3DecoderErrors, NoOption1) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(""), {"option1 (the Python script) is not set"});
 }
 
 TEST(Python3DecoderErrors, SyntaxError) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(script("bad_syntax_conv.py")),
                {"rejected option1=", "bad_syntax_conv.py", "SyntaxError", "line 5"});
 }
 
 TEST(Python3DecoderErrors, ClassMissing) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(script("dec_no_class.py")),
                {"option1", "dec_no_class.py", "defines no class CustomDecoder"});
 }
 
 TEST(Python3DecoderErrors, ConstructorRaises) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(script("dec_raise_init.py")),
                {"CustomDecoder() raised", "RuntimeError: decoder constructor refuses"});
 }
 
 TEST(Python3DecoderErrors, GetOutCapsProblems) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(script("dec_caps_raise.py")),
                {"getOutCaps() raised", "LookupError: no caps for you"});
   expect_error(run_with(script("dec_bad_caps.py")),
@@ -295,7 +288,7 @@ TEST(Python3DecoderErrors, GetOutCapsProblems) {
 }
 
 TEST(Python3DecoderErrors, DecodeProblems) {
-  REQUIRE_PYTHON3_DECODER();
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_decoder", "decoder");
   expect_error(run_with(script("dec_cases.py"), 1), {"failed to decode a frame", "decode() raised",
                                                      "ZeroDivisionError", "dec_cases.py\", line"});
   expect_error(run_with(script("dec_cases.py"), 2), {"decode() returned str; expected bytes"});
