@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "support/harness.h"
+
 namespace nns::test::convdec {
 
 // tests/data/python/convdec/<name>.
@@ -45,6 +47,14 @@ inline GstBuffer *bytes_buffer(const std::vector<uint8_t> &v) {
   GstBuffer *b = gst_buffer_new_allocate(nullptr, v.size(), nullptr);
   gst_buffer_fill(b, 0, v.data(), v.size());
   return b;
+}
+
+// `r` ended in an error whose text contains every one of `parts`.
+inline void expect_error_parts(const nns::test::RunResult &r,
+                               const std::vector<std::string> &parts) {
+  ASSERT_TRUE(r.error) << "expected an error";
+  for (const auto &p : parts)
+    EXPECT_NE(r.error_text.find(p), std::string::npos) << p << " not in:\n" << r.error_text;
 }
 
 // The caps on the harness' sink pad as a string ("" when none are set).
