@@ -90,18 +90,19 @@ if [[ $NNS_SANITIZE == 1 ]]; then
   light=ON
   [[ ${NNS_SANITIZE_FULL:-0} == 1 ]] && light=OFF
   say "sanitizer pass (ASan+UBSan+LSan, light parts only: $light) in ${ASAN_DIR#"$ROOT"/}"
-  # -O1 -g1: half the compile time of -O2 -g, still line numbers in the reports.
+  # Leaks are checked (LSan at exit of every test process); suppressions: scripts/sanitizers/*.supp.
+  # G_SLICE=always-malloc: GLib's slice magazines would otherwise hide leaked GstBuffers/events.
+  # Exported before the build: gtest_discover_tests runs the test binaries at build time.
+  export G_SLICE=always-malloc G_DEBUG=gc-friendly
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:detect_odr_violation=0:suppressions=$SUPP/asan.supp}
+  export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$SUPP/lsan.supp:print_suppressions=0}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:suppressions=$SUPP/ubsan.supp}
+  # -O1 -g1: about half the compile time of -O2 -g, still file:line in the reports.
   build_tree "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNNS_SANITIZE=ON \
     -DNNS_SANITIZE_LIGHT=$light -DNNS_BUILD_BENCH=OFF \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"
-  # Leaks are checked (LSan at exit of every test process); suppressions: scripts/sanitizers/*.supp.
-  # G_SLICE=always-malloc: GLib's slice magazines would otherwise hide leaked GstBuffers/events.
   # shellcheck disable=SC2086
-  G_SLICE=always-malloc G_DEBUG=gc-friendly \
-    ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:detect_odr_violation=0:suppressions=$SUPP/asan.supp} \
-    LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$SUPP/lsan.supp:print_suppressions=0} \
-    UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:suppressions=$SUPP/ubsan.supp} \
-    run_ctest "$ASAN_DIR" ${NNS_ASAN_CTEST_ARGS--LE slow} "$@" || status=1
+  run_ctest "$ASAN_DIR" ${NNS_ASAN_CTEST_ARGS--LE slow} "$@" || status=1
 fi
 
 if ((status)); then say "FAILED after $(($(date +%s) - T0)) s"; else say "all tests passed in $(($(date +%s) - T0)) s"; fi
