@@ -13,9 +13,11 @@
 //
 // usage: ort_pipeline_bench [--frames N] [--runs R] [--threads T] [--model PATH]
 #include <dlfcn.h>
+#include <time.h>
 #include <gst/gst.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -31,6 +33,22 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// CPU seconds used by the whole process (every thread): the figure that stays meaningful when
+// the shared machine is loaded.
+double cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+// Frames per wall second and process CPU milliseconds per frame.
+struct Rate {
+  double fps = 0;
+  double cpu_ms = 0;
+};
+
+constexpr int kWarm = 10;  // untimed invokes before each timed run, pipeline and direct alike
 
 struct Opts {
   int frames = 60;
@@ -50,15 +68,17 @@ std::vector<uint8_t> read_all(const std::string &p) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
 }
 
-// orange.raw (224x224 RGB HWC uint8) -> float32 CHW in [-1, 1], the model's input.
+// orange.raw (224x224 RGB HWC uint8) -> float32 CHW with torchvision's ImageNet normalisation
+// ((x - 255 mean) / (255 std) per channel), the model's input.
 std::vector<float> make_input(const std::string &raw_path) {
   std::vector<uint8_t> img = read_all(raw_path);
   std::vector<float> chw(3 * 224 * 224);
   if (img.size() != chw.size()) return {};
+  const float mean[3] = {123.675f, 116.28f, 103.53f}, stdev[3] = {58.395f, 57.12f, 57.375f};
   for (int y = 0; y < 224; ++y)
     for (int x = 0; x < 224; ++x)
       for (int c = 0; c < 3; ++c)
-        chw[c * 224 * 224 + y * 224 + x] = img[(y * 224 + x) * 3 + c] / 127.5f - 1.f;
+        chw[c * 224 * 224 + y * 224 + x] = (img[(y * 224 + x) * 3 + c] - mean[c]) / stdev[c];
   return chw;
 }
 
@@ -97,14 +117,21 @@ bool open_direct(const std::string &so, const std::string &model, const std::str
   return true;
 }
 
-// Invokes `frames` times; returns inferences per second.
-double direct_fps(Direct &d, std::vector<float> &in, int frames) {
+// Invokes `frames` times (after kWarm untimed invokes).
+Rate direct_rate(Direct &d, std::vector<float> &in, int frames) {
   std::vector<float> out(1000);
   GstTensorMemory i = {in.data(), in.size() * 4}, o = {out.data(), out.size() * 4};
   char err[256];
+  for (int k = 0; k < kWarm; ++k) d.api->invoke(d.priv, &i, 1, &o, 1, err, sizeof(err));
+  double c0 = cpu_now();
   auto t0 = Clock::now();
   for (int k = 0; k < frames; ++k) d.api->invoke(d.priv, &i, 1, &o, 1, err, sizeof(err));
-  return frames / std::chrono::duration<double>(Clock::now() - t0).count();
+  double s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return {frames / s, (cpu_now() - c0) * 1e3 / frames};
+}
+
+double direct_fps(Direct &d, std::vector<float> &in, int frames) {
+  return direct_rate(d, in, frames).fps;
 }
 
 const char *kCaps =
@@ -119,33 +146,58 @@ void push(GstElement *src, GstBuffer *input, int k) {
   gst_buffer_unref(b);
 }
 
-// Runs `desc` (with an appsrc named src): one warm-up buffer and preroll (model opened, first
-// inference done), then the same buffer `frames` times; returns frames per second from the
-// first timed push to EOS.
-double pipeline_fps(const std::string &desc, GstBuffer *input, int frames) {
+// Buffers reaching the sink (counted by a pad probe on the first sink): the timed window runs
+// from the kWarm-th buffer to the last one, so model loading, warm-up and EOS handling are out.
+struct Window {
+  std::atomic<int> n{0};
+  int total = 0;
+  double c0 = 0, c1 = 0;
+  Clock::time_point t0, t1;
+};
+
+GstPadProbeReturn count_buffer(GstPad *, GstPadProbeInfo *, gpointer data) {
+  auto *w = static_cast<Window *>(data);
+  int k = ++w->n;
+  if (k == kWarm) {
+    w->c0 = cpu_now();
+    w->t0 = Clock::now();
+  }
+  if (k == w->total) {
+    w->t1 = Clock::now();
+    w->c1 = cpu_now();
+  }
+  return GST_PAD_PROBE_OK;
+}
+
+// Runs `desc` (with an appsrc named src and a fakesink named sink): kWarm warm-up buffers (the
+// model is opened by the pipeline; the direct loop is warmed the same way), then `frames`
+// timed buffers, all the same input.
+Rate pipeline_rate(const std::string &desc, GstBuffer *input, int frames) {
   GError *e = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &e);
   if (!p) {
     std::fprintf(stderr, "pipeline: %s\n", e ? e->message : "?");
-    return 0;
+    return {};
   }
   GstElement *src = gst_bin_get_by_name(GST_BIN(p), "src");
+  GstElement *sink = gst_bin_get_by_name(GST_BIN(p), "sink");
+  Window w;
+  w.total = kWarm + frames;
+  GstPad *sinkpad = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(sinkpad, GST_PAD_PROBE_TYPE_BUFFER, count_buffer, &w, nullptr);
+  gst_object_unref(sinkpad);
   GstCaps *caps = gst_caps_from_string(kCaps);
   g_object_set(src, "caps", caps, "format", GST_FORMAT_TIME, "max-buffers", (guint64)4, "block",
                TRUE, nullptr);
   gst_caps_unref(caps);
   gst_element_set_state(p, GST_STATE_PLAYING);
-  push(src, input, 0);
-  gst_element_get_state(p, nullptr, nullptr, 60 * GST_SECOND);  // preroll done
-  auto t0 = Clock::now();
-  for (int k = 1; k <= frames; ++k) push(src, input, k);
+  for (int k = 0; k < kWarm + frames; ++k) push(src, input, k);
   GstFlowReturn ret;
   g_signal_emit_by_name(src, "end-of-stream", &ret);
   GstBus *bus = gst_element_get_bus(p);
   GstMessage *m = gst_bus_timed_pop_filtered(
       bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-  double fps = frames / secs;
+  Rate r;
   if (!m || GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
     if (m) {
       GError *err = nullptr;
@@ -153,14 +205,21 @@ double pipeline_fps(const std::string &desc, GstBuffer *input, int frames) {
       std::fprintf(stderr, "pipeline error: %s\n", err->message);
       g_error_free(err);
     }
-    fps = 0;
+  } else if (w.n.load() >= w.total) {
+    r.fps = frames / std::chrono::duration<double>(w.t1 - w.t0).count();
+    r.cpu_ms = (w.c1 - w.c0) * 1e3 / frames;
   }
   if (m) gst_message_unref(m);
   gst_object_unref(bus);
   gst_element_set_state(p, GST_STATE_NULL);
   gst_object_unref(src);
+  gst_object_unref(sink);
   gst_object_unref(p);
-  return fps;
+  return r;
+}
+
+double pipeline_fps(const std::string &desc, GstBuffer *input, int frames) {
+  return pipeline_rate(desc, input, frames).fps;
 }
 
 }  // namespace
@@ -205,11 +264,15 @@ int main(int argc, char **argv) {
   GstBuffer *buf = gst_buffer_new_memdup(in.data(), in.size() * 4);
   std::string filter = "tensor_filter framework=onnxruntime model=\"" + o.model + "\"";
   std::string single =
-      "appsrc name=src ! " + filter + " custom=" + custom + " ! fakesink sync=false";
-  std::string branch =
-      "queue max-size-buffers=2 ! " + filter + " custom=NumThreads:1 ! fakesink sync=false";
-  std::string one = "appsrc name=src ! " + branch;
-  std::string two = "appsrc name=src ! tee name=t t. ! " + branch + " t. ! " + branch;
+      "appsrc name=src ! " + filter + " custom=" + custom + " ! fakesink name=sink sync=false";
+  // Each pipeline has one fakesink named sink: the one whose buffers time the run.
+  auto branch = [&](const char *sink_name) {
+    return "queue max-size-buffers=2 ! " + filter +
+           " custom=NumThreads:1 ! fakesink name=" + sink_name + " sync=false";
+  };
+  std::string one = "appsrc name=src ! " + branch("sink");
+  std::string two =
+      "appsrc name=src ! tee name=t t. ! " + branch("sink") + " t. ! " + branch("sink2");
 
   std::string load;
   if (std::FILE *f = std::fopen("/proc/loadavg", "r")) {
@@ -223,12 +286,17 @@ int main(int argc, char **argv) {
   // Short interleaved rounds: the machine is shared, so each ratio compares runs made seconds
   // apart, and the median over rounds is reported.
   std::vector<double> direct, direct1, direct2, pipe, one_fps, two_fps;
-  std::vector<double> r_pipe, r_direct2, r_two;
+  std::vector<double> r_pipe, r_direct2, r_two, r_pipe_cpu, cpu_direct, cpu_pipe;
   for (int r = 0; r < o.runs; ++r) {
-    direct.push_back(direct_fps(d1, in, o.frames));
+    Rate dr = direct_rate(d1, in, o.frames);
+    direct.push_back(dr.fps);
+    cpu_direct.push_back(dr.cpu_ms);
     if (have_filter) {
-      pipe.push_back(pipeline_fps(single, buf, o.frames));
+      Rate pr = pipeline_rate(single, buf, o.frames);
+      pipe.push_back(pr.fps);
+      cpu_pipe.push_back(pr.cpu_ms);
       r_pipe.push_back(pipe.back() / direct.back());
+      r_pipe_cpu.push_back(pr.cpu_ms > 0 ? dr.cpu_ms / pr.cpu_ms : 0);
     }
     direct1.push_back(direct_fps(d2, in, o.frames));
     // Two direct loops in two threads, one instance each: the machine's own ceiling.
@@ -259,6 +327,10 @@ int main(int argc, char **argv) {
         "pipeline appsrc ! tensor_filter:      %7.1f inferences/s, ratio %.3f "
         "(target >= 0.97)\n",
         median(pipe), median(r_pipe));
+    std::printf(
+        "  CPU per frame: direct %.3f ms, pipeline %.3f ms, ratio (direct / pipeline) %.3f "
+        "(target >= 0.97)\n",
+        median(cpu_direct), median(cpu_pipe), median(r_pipe_cpu));
     std::printf("pipeline, one queue branch:           %7.1f inferences/s\n", median(one_fps));
     std::printf(
         "pipeline, tee ! 2 queue branches:     %7.1f inferences/s combined, %.2fx one "

@@ -35,6 +35,17 @@ for b in "$BUILD_DIR"/bench/*_bench; do
     failed=$((failed + 1))
   fi
 done
+# The figures with targets, gathered from every result file of this run.
+if ((ran)); then
+  echo "[bench] ===== summary (targets: pipeline/direct >= 0.97, mux/demux <= 2 us per buffer)"
+  for b in "$BUILD_DIR"/bench/*_bench; do
+    name=$(basename "$b")
+    [[ -z $filter || $name == *"$filter"* ]] || continue
+    f=$BUILD_DIR/bench-results/$name.txt
+    [[ -f $f ]] || continue
+    grep -E 'ratio|tensor_mux:|tensor_demux:|sync-mode=|speed-up' "$f" | sed "s/^/[$name] /" || true
+  done
+fi
 ((ran + failed)) || echo "[bench] no benchmark matched '${filter}' in ${BUILD_DIR#"$ROOT"/}/bench"
 echo "[bench] $ran benchmark(s) ran, $failed failed; results in ${BUILD_DIR#"$ROOT"/}/bench-results/"
 ((failed == 0))

@@ -58,6 +58,13 @@ typedef struct _NNStreamerExternalConverter {
 #define NNS_CONVERTER_SUBPLUGIN_ENTRY "nns_converter_subplugin_entry"
 typedef const NNStreamerExternalConverter *(*nns_converter_subplugin_entry_fn)(void);
 
+/* Optional export of a converter sub-plugin object (nnstreamer-cpp extension; the table has no
+ * error channel): why convert() last returned NULL on the calling thread ("" or NULL if it did
+ * not fail). tensor_converter calls it right after a failed convert() and puts the text in its
+ * bus error. */
+#define NNS_CONVERTER_SUBPLUGIN_LAST_ERROR "nns_converter_subplugin_last_error"
+typedef const char *(*nns_converter_subplugin_last_error_fn)(void);
+
 /* The converter registered (or loadable) as `name`, or NULL. */
 extern const NNStreamerExternalConverter *nnstreamer_converter_find(const char *name);
 

@@ -3,6 +3,7 @@
 
 #include <cstring>
 
+#include "core/c_tensor_info.h"
 #include "core/filter_desc.h"
 
 namespace nns {

@@ -8,9 +8,9 @@
 #include <memory>
 #include <vector>
 
+#include "core/c_tensor_info.h"
 #include "core/filter_builtin_util.h"
 #include "core/filter_compat_props.h"
-#include "core/filter_desc.h"
 #include "core/filter_registry.h"
 #include "tensor_filter_custom.h"
 

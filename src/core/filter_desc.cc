@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 #include "core/filter_desc.h"
 
-#include <cstdlib>
 #include <cstring>
 
 #include "core/error.h"
@@ -59,73 +58,6 @@ TensorsInfo info_from_desc(const nns_tensors_desc &desc) {
     for (std::size_t r = 0; r < kRankLimit; ++r) o.dims[r] = t.dims[r];
   }
   return info;
-}
-
-void gst_info_init(GstTensorsInfo *info) {
-  std::memset(info, 0, sizeof(*info));
-  for (auto &t : info->info) t.type = _NNS_END;
-  info->format = _NNS_TENSOR_FORMAT_STATIC;
-}
-
-GstTensorInfo *gst_info_at(GstTensorsInfo *info, unsigned i) {
-  if (i < NNS_TENSOR_MEMORY_MAX) return &info->info[i];
-  if (!info->extra || i >= NNS_TENSOR_SIZE_LIMIT) return nullptr;
-  return &info->extra[i - NNS_TENSOR_MEMORY_MAX];
-}
-
-const GstTensorInfo *gst_info_at(const GstTensorsInfo *info, unsigned i) {
-  return gst_info_at(const_cast<GstTensorsInfo *>(info), i);
-}
-
-void gst_info_clear(GstTensorsInfo *info) {
-  unsigned n = info->num_tensors;
-  for (unsigned i = 0; i < n && i < NNS_TENSOR_SIZE_LIMIT; ++i) {
-    GstTensorInfo *t = gst_info_at(info, i);
-    if (t) std::free(t->name);
-  }
-  std::free(info->extra);
-  gst_info_init(info);
-}
-
-void gst_info_from_desc(const nns_tensors_desc &desc, GstTensorsInfo *out) {
-  gst_info_init(out);
-  unsigned n = desc.num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT : desc.num_tensors;
-  if (n > NNS_TENSOR_MEMORY_MAX) {
-    out->extra = static_cast<GstTensorInfo *>(
-        std::calloc(NNS_TENSOR_SIZE_EXTRA_LIMIT, sizeof(GstTensorInfo)));
-    for (unsigned i = 0; i < NNS_TENSOR_SIZE_EXTRA_LIMIT; ++i) out->extra[i].type = _NNS_END;
-  }
-  out->num_tensors = n;
-  out->format = static_cast<tensor_format>(desc.format);
-  for (unsigned i = 0; i < n; ++i) {
-    GstTensorInfo *t = gst_info_at(out, i);
-    const nns_tensor_desc &s = desc.tensors[i];
-    t->name = s.name[0] ? strndup(s.name, NNS_TENSOR_NAME_MAX) : nullptr;
-    t->type = static_cast<tensor_type>(s.type);
-    std::memcpy(t->dimension, s.dims, sizeof(t->dimension));
-  }
-}
-
-void desc_from_gst_info(const GstTensorsInfo *info, nns_tensors_desc &out) {
-  unsigned n =
-      info->num_tensors > NNS_TENSOR_SIZE_LIMIT ? NNS_TENSOR_SIZE_LIMIT : info->num_tensors;
-  out.num_tensors = n;
-  out.format = static_cast<uint32_t>(info->format);
-  for (unsigned i = 0; i < n; ++i) {
-    nns_tensor_desc &t = out.tensors[i];
-    const GstTensorInfo *s = gst_info_at(info, i);
-    if (!s) {
-      out.num_tensors = i;
-      break;
-    }
-    t.name[0] = '\0';
-    if (s->name) {
-      std::strncpy(t.name, s->name, NNS_TENSOR_NAME_MAX - 1);
-      t.name[NNS_TENSOR_NAME_MAX - 1] = '\0';
-    }
-    t.type = static_cast<uint32_t>(s->type);
-    std::memcpy(t.dims, s->dimension, sizeof(t.dims));
-  }
 }
 
 }  // namespace nns

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/filter_compat_props.h"
+#include "core/c_tensor_info.h"
 #include "core/filter_desc.h"
 #include "nnstreamer_plugin_api_filter.h"
 

@@ -54,8 +54,8 @@ MetaHeader parse_meta_header(const uint8_t *src, std::size_t size) {
     fail(ErrorKind::kStream, "flexible tensor memory of " + std::to_string(size) +
                                  " bytes is shorter than the 128-byte header");
   if (get32(src) != kMetaMagic)
-    fail(ErrorKind::kStream, "flexible tensor header has magic " + hex(get32(src)) +
-                                 ", expected " + hex(kMetaMagic));
+    fail(ErrorKind::kStream,
+         "flexible tensor header has magic " + hex(get32(src)) + ", expected " + hex(kMetaMagic));
   if ((get32(src + 4) & 0xFFFF0000u) != (kMetaVersion & 0xFFFF0000u))
     fail(ErrorKind::kStream, "flexible tensor header has version " + hex(get32(src + 4)) +
                                  ", expected " + hex(kMetaVersion));
@@ -72,6 +72,15 @@ MetaHeader parse_meta_header(const uint8_t *src, std::size_t size) {
     if (h.dims[i] != 0)
       fail(ErrorKind::kStream, "flexible tensor header has dimension " + dims_to_string(h.dims) +
                                    " with a 0 inside the rank");
+  // The byte size must be representable (crafted dimensions overflowed size_t and made
+  // payload_size() tiny; found by fuzz/meta_header_fuzz.cc).
+  {
+    std::size_t bytes = type_size(h.type);
+    for (std::size_t i = 0; i < r; ++i)
+      if (__builtin_mul_overflow(bytes, std::size_t{h.dims[i]}, &bytes))
+        fail(ErrorKind::kStream, "flexible tensor header has dimension " + dims_to_string(h.dims) +
+                                     " whose size overflows");
+  }
   uint32_t fmt = get32(src + 76);
   if (fmt >= static_cast<uint32_t>(TensorFormat::kEnd))
     fail(ErrorKind::kStream, "flexible tensor header has format " + std::to_string(fmt) +
@@ -83,6 +92,12 @@ MetaHeader parse_meta_header(const uint8_t *src, std::size_t size) {
     fail(ErrorKind::kStream, "sparse tensor header has nnz " + std::to_string(h.nnz) +
                                  " larger than its " + std::to_string(element_count(h.dims)) +
                                  " elements");
+  std::size_t sparse_bytes;
+  if (h.format == TensorFormat::kSparse &&
+      __builtin_mul_overflow(std::size_t{h.nnz}, type_size(h.type) + sizeof(uint32_t),
+                             &sparse_bytes))
+    fail(ErrorKind::kStream,
+         "sparse tensor header has nnz " + std::to_string(h.nnz) + " whose size overflows");
   return h;
 }
 

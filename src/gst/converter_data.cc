@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_converter data path: one input buffer -> tensor buffers pushed downstream.
 #include "core/error.h"
-#include "gst/c_tensor_info.h"
+#include "core/c_tensor_info.h"
 #include "gst/converter_state.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"
@@ -183,7 +183,18 @@ GstBuffer *from_custom(ConverterState *p, GstBuffer *in, bool *owns_in) {
   GstBuffer *out = p->custom.func ? p->custom.func(in, p->custom.data, c.get())
                                   : p->ext->convert(in, c.get(), p->ext_priv);
   const std::string who = p->media.describe;
-  if (!out) fail(ErrorKind::kStream, who + " returned no buffer");
+  if (!out) {
+    // Why: the sub-plugin's error slot (python3), else its thread-local last error
+    // (nns_converter_subplugin_last_error, the wire converters).
+    std::string why = p->custom.func ? std::string() : subplugin_reason(p->ext_priv);
+    if (why.empty() && p->ext) {
+      if (auto fn = ConverterRegistry::instance().last_error_fn(p->ext)) {
+        const char *m = fn();
+        if (m) why = m;
+      }
+    }
+    fail(ErrorKind::kStream, who + " returned no buffer" + (why.empty() ? "" : ": " + why));
+  }
   if (out == in) *owns_in = false;  // the element's reference moved to the output
   BufferPtr guard_out(out);
   TensorsConfig cfg = from_c(c.get());

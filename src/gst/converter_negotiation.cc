@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_converter negotiation: settings, input caps -> output tensors, src caps.
+#include <cstring>
+
 #include "core/error.h"
-#include "gst/c_tensor_info.h"
+#include "core/c_tensor_info.h"
 #include "gst/converter_state.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -60,6 +62,13 @@ void close_external(ConverterState *p) {
   if (p->ext && p->ext->close && p->ext_priv) p->ext->close(&p->ext_priv);
   p->ext = nullptr;
   p->ext_priv = nullptr;
+}
+
+std::string subplugin_reason(const void *priv) {
+  static constexpr char kMagic[8] = {'N', 'N', 'S', 'D', 'E', 'R', 'R', '\0'};
+  if (!priv || std::memcmp(priv, kMagic, sizeof kMagic) != 0) return {};
+  const char *msg = static_cast<const char *>(priv) + sizeof kMagic;
+  return std::string(msg, strnlen(msg, 512));
 }
 
 namespace {
@@ -273,9 +282,11 @@ void configure(ConverterState *p, GstCaps *caps) {
         if (p->ext->open) {
           int r = p->ext->open(p->mode_option.c_str(), &p->ext_priv);
           if (r < 0) {
-            p->ext = nullptr;
+            std::string why = subplugin_reason(p->ext_priv);
+            close_external(p);  // a sub-plugin may keep data (its error slot) after a failure
             fail(ErrorKind::kLibrary, "mode=custom-script:" + p->mode_option + ": sub-plugin '" +
-                                          want + "' failed to open it (" + std::to_string(r) + ")");
+                                          want + "' failed to open it (" + std::to_string(r) + ")" +
+                                          (why.empty() ? "" : ": " + why));
           }
         }
       } else {

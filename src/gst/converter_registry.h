@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gst/subplugin_registry.h"
 #include "nnstreamer_plugin_api_converter.h"
 #include "tensor_converter_custom.h"
 
@@ -42,6 +43,9 @@ class ConverterRegistry {
   GstCaps *all_caps();
   // Why the last load of `name` failed ("" if none) — for error messages.
   std::string load_error(std::string_view name);
+  // The optional nns_converter_subplugin_last_error() export of the object `ex` came from
+  // (nullptr if none): the reason of its last failed convert() on the calling thread.
+  nns_converter_subplugin_last_error_fn last_error_fn(const NNStreamerExternalConverter *ex);
 
   // custom-code callbacks: 0 or -EINVAL, as NNStreamer.
   int add_custom(const char *name, tensor_converter_custom func, void *data);
@@ -49,26 +53,10 @@ class ConverterRegistry {
   std::optional<CustomConverter> find_custom(std::string_view name);
 
  private:
-  ConverterRegistry() = default;
-  const NNStreamerExternalConverter *find_locked(std::string_view name);
-  void load_file(const std::string &name, const std::string &path);
-  void load_all_locked();
+  ConverterRegistry();
 
-  std::recursive_mutex mutex_;  // a loaded object's constructor re-enters add()
-  struct Entry {
-    std::string name;
-    const NNStreamerExternalConverter *ex;
-  };
-  std::vector<Entry> converters_;
-  struct Custom {
-    std::string name;
-    CustomConverter cb;
-  };
-  std::vector<Custom> customs_;
-  std::vector<std::string> tried_paths_;  // files already dlopen'ed (or failed)
-  std::vector<std::pair<std::string, std::string>> load_errors_;
-  const void *scanned_conf_ = nullptr;  // configuration whose folders were last loaded
-  unsigned generation_ = 0;             // bumped on every add/remove
+  SubpluginRegistry reg_;  // loader and table list shared with the decoder registry
+  CustomCallbacks<CustomConverter> customs_;
   unsigned caps_generation_ = ~0u;
   GstCaps *caps_cache_ = nullptr;
 };

@@ -72,6 +72,9 @@ void close_external(ConverterState *p);
 void configure(ConverterState *p, GstCaps *caps);  // CAPS event
 void send_caps(ConverterState *p, const TensorsConfig &cfg);
 std::string props_string(const ConverterState *p);
+// Why a converter sub-plugin failed, when its private data starts with the error slot of
+// backends/decoder/common/decoder_common.h (magic "NNSDERR" + message), else "".
+std::string subplugin_reason(const void *priv);
 
 // converter_data.cc
 GstFlowReturn process_buffer(ConverterState *p, GstBuffer *buf);  // takes `buf`; throws

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// Process-wide registry of tensor_decoder extensions (modelled on converter_registry.h):
+// Process-wide registry of tensor_decoder extensions (the loader is shared with
+// converter_registry.h: subplugin_registry.h):
 //   - decoder sub-plugins (GstTensorDecoderDef, nnstreamer_plugin_api_decoder.h), registered
 //     in-process (nnstreamer_decoder_probe) or loaded on demand from
 //     libnnstreamer_decoder_<mode>.so in the folders nns::Conf gives for SubpluginKind::kDecoder
@@ -16,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gst/subplugin_registry.h"
 #include "nnstreamer_plugin_api_decoder.h"
 #include "tensor_decoder_custom.h"
 
@@ -41,15 +43,10 @@ class DecoderRegistry {
   std::optional<CustomDecoder> find_custom(std::string_view name);
 
  private:
-  DecoderRegistry() = default;
-  const GstTensorDecoderDef *lookup_locked(std::string_view name) const;
-  void load_file(const std::string &name, const std::string &path);
+  DecoderRegistry();
 
-  std::recursive_mutex mutex_;
-  std::vector<std::pair<std::string, const GstTensorDecoderDef *>> decoders_;
-  std::vector<std::pair<std::string, CustomDecoder>> customs_;
-  std::vector<std::string> tried_paths_;
-  std::vector<std::pair<std::string, std::string>> load_errors_;
+  SubpluginRegistry reg_;  // loader and table list shared with the converter registry
+  CustomCallbacks<CustomDecoder> customs_;
 };
 
 }  // namespace nns::gst

@@ -78,4 +78,34 @@ bool TensorRepo::has_buffer(uint32_t slot) {
   return s->buf != nullptr;
 }
 
+guint RepoSlot::slot() const {
+  guint s = index_;
+  return unset_means_zero_ && s == kUnset ? 0 : s;
+}
+
+void RepoSlot::set_property(guint index) {
+  guint old = slot();
+  index_ = index;
+  if (old != slot()) {
+    slot_changed_ = true;
+    TensorRepo::instance().wake(old);
+  }
+}
+
+void RepoSlot::unlock() {
+  flushing_ = true;
+  TensorRepo::instance().wake(slot());
+}
+
+TensorRepo::Status RepoSlot::wait(const WaitFn &wait_on, guint *used) {
+  for (;;) {
+    slot_changed_ = false;
+    guint s = slot();
+    *used = s;
+    auto st = wait_on(s, [this] { return flushing_ || slot_changed_; });
+    if (st != TensorRepo::Status::kCancelled || flushing_) return st;
+    // slot-index changed while waiting: wait on the new slot
+  }
+}
+
 }  // namespace nns::gst

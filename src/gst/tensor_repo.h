@@ -8,12 +8,19 @@
 
 #include <gst/gst.h>
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+
+// Caps both repository elements accept.
+#define NNS_REPO_CAPS                                                         \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
+  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
+  "framerate = (fraction) [ 0, max ]"
 
 namespace nns::gst {
 
@@ -43,6 +50,35 @@ class TensorRepo {
   std::shared_ptr<Slot> get(uint32_t slot);
   std::mutex lock_;
   std::map<uint32_t, std::shared_ptr<Slot>> slots_;
+};
+
+// One element's view of its slot (tensor_reposink / tensor_reposrc): the slot-index property,
+// the flushing flag of unlock/unlock_stop, and waits that follow a slot-index change.
+class RepoSlot {
+ public:
+  static constexpr guint kUnset = G_MAXUINT;
+  // `unset_until_set`: the property starts at kUnset, which means slot 0.
+  explicit RepoSlot(bool unset_until_set)
+      : unset_means_zero_(unset_until_set), index_(unset_until_set ? kUnset : 0) {}
+
+  guint property() const { return index_; }
+  // Sets the slot-index property; a wait on the old slot moves to the new one.
+  void set_property(guint index);
+  guint slot() const;
+  bool flushing() const { return flushing_; }
+  void unlock();  // flushing: wakes the wait
+  void unlock_stop() { flushing_ = false; }
+
+  // Runs `wait_on(slot, cancelled)` (a TensorRepo push or pop) until it is not interrupted by a
+  // slot-index change. kCancelled means flushing. `*used` receives the slot waited on.
+  using WaitFn = std::function<TensorRepo::Status(uint32_t, const std::function<bool()> &)>;
+  TensorRepo::Status wait(const WaitFn &wait_on, guint *used);
+
+ private:
+  const bool unset_means_zero_;
+  std::atomic<guint> index_;
+  std::atomic<bool> flushing_{false};
+  std::atomic<bool> slot_changed_{false};
 };
 
 }  // namespace nns::gst

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "gst/element_glue.h"
 #include "gst/tensor_caps.h"
 
 namespace nns::gst {
@@ -30,6 +31,53 @@ void SrcPads::remove_all() {
 
 void SrcPads::reset_flow() {
   gst_flow_combiner_reset(combiner_);
+}
+
+gboolean SrcPads::sink_event(GstPad *pad, GstEvent *event, const char *eos_error,
+                             const std::function<void(GstCaps *)> &on_caps) {
+  switch (GST_EVENT_TYPE(event)) {
+    case GST_EVENT_CAPS: {
+      GstCaps *caps = nullptr;
+      gst_event_parse_caps(event, &caps);
+      gboolean ok = guard(element_, FALSE, [&]() -> gboolean {
+        on_caps(caps);
+        return TRUE;
+      });
+      gst_event_unref(event);  // each src pad has its own caps
+      return ok;
+    }
+    case GST_EVENT_EOS:
+      if (pads_.empty()) {
+        NNS_POST_ERROR(element_, ErrorKind::kStream, eos_error);
+        gst_event_unref(event);
+        return FALSE;
+      }
+      break;
+    case GST_EVENT_FLUSH_STOP:
+      reset_flow();
+      break;
+    default:
+      break;
+  }
+  return gst_pad_event_default(pad, GST_OBJECT(element_), event);
+}
+
+GstStateChangeReturn SrcPads::change_state(GstElementClass *parent_class, GstStateChange transition,
+                                           const std::function<void()> &on_start,
+                                           const std::function<void()> &on_stop) {
+  if (transition == GST_STATE_CHANGE_READY_TO_PAUSED) {
+    bool ok = guard(element_, false, [&] {
+      on_start();
+      return true;
+    });
+    if (!ok) return GST_STATE_CHANGE_FAILURE;
+  }
+  GstStateChangeReturn ret = parent_class->change_state(element_, transition);
+  if (transition == GST_STATE_CHANGE_PAUSED_TO_READY) {
+    remove_all();
+    if (on_stop) on_stop();
+  }
+  return ret;
 }
 
 void SrcPads::configure(GstPad *sinkpad, const std::vector<TensorsConfig> &configs) {

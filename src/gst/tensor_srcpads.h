@@ -2,12 +2,14 @@
 // The "sometimes" src pads of tensor_demux and tensor_split: src_0, src_1, ... created from
 // a list of per-pad configs when the sink caps arrive, each with its own stream-start (same
 // group id as the input), fixed caps and the input's segment; flow returns are combined
-// (not-linked only when every pad is not linked).
+// (not-linked only when every pad is not linked). sink_event() and change_state() hold the
+// sink-event and state-change handling the two elements share.
 #pragma once
 
 #include <gst/base/gstflowcombiner.h>
 #include <gst/gst.h>
 
+#include <functional>
 #include <vector>
 
 #include "core/tensor_info.h"
@@ -29,6 +31,19 @@ class SrcPads {
   // Pushes on pad `i` (taking `buf`); returns the combined flow of all pads.
   GstFlowReturn push(std::size_t i, GstBuffer *buf);
   void reset_flow();
+
+  // The element's sink-pad event handler. CAPS: `on_caps` runs inside guard() (an exception
+  // becomes a posted error and FALSE) and the event is dropped, as each src pad sends its own
+  // caps. EOS while no src pad exists: posts a kStream error with `eos_error` and fails.
+  // FLUSH_STOP resets the combined flow. Everything else goes to the default handler.
+  gboolean sink_event(GstPad *pad, GstEvent *event, const char *eos_error,
+                      const std::function<void(GstCaps *)> &on_caps);
+  // The element's change_state: on READY->PAUSED `on_start` (parse the settings) runs inside
+  // guard() and a throw fails the transition; then the parent class's change_state; on
+  // PAUSED->READY the pads are removed and `on_stop` (when set) runs.
+  GstStateChangeReturn change_state(GstElementClass *parent_class, GstStateChange transition,
+                                    const std::function<void()> &on_start,
+                                    const std::function<void()> &on_stop = {});
 
  private:
   GstElement *element_;

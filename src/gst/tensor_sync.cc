@@ -13,6 +13,7 @@
 #include "gst/tensor_sync.h"
 
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <optional>
 
@@ -28,6 +29,23 @@ GST_DEBUG_CATEGORY_STATIC(tensor_sync_debug);
 namespace {
 
 constexpr const char *kRefreshField = "nns-tensor-sync-refresh";
+
+// The sink pads at one moment, each with a reference. Shared by the PadInputs that use it, so
+// per output there is one atomic increment instead of a GObject ref/unref per pad; rebuilt when
+// the element's pads change (GstElement::pads_cookie).
+class PadList {
+ public:
+  explicit PadList(GstElement *e) {
+    for (GList *l = e->sinkpads; l; l = l->next)
+      pads.push_back(static_cast<GstPad *>(gst_object_ref(l->data)));
+  }
+  ~PadList() {
+    for (auto *p : pads) gst_object_unref(p);
+  }
+  PadList(const PadList &) = delete;
+  PadList &operator=(const PadList &) = delete;
+  std::vector<GstPad *> pads;
+};
 
 struct SyncPriv {
   // Settings (properties), under `lock`.
@@ -47,6 +65,9 @@ struct SyncPriv {
   bool segment_sent = false;
   bool queue_checked = false;  // deeper input queues considered (see deepen_queues)
   bool queue_auto = false;     // we set GstAggregator:latency ourselves
+  // Sink pads as of pads_cookie (under the object lock).
+  std::shared_ptr<const PadList> pad_list;
+  guint32 pads_cookie = 0;
 };
 
 // GstAggregator lets each sink pad queue as much as its `latency` (time) allows; with the
@@ -152,37 +173,57 @@ static void gst_tensor_sync_pad_init(GstTensorSyncPad *sp) {
 
 namespace {
 
+// The current pad snapshot (rebuilt when pads were added or removed).
+std::shared_ptr<const PadList> current_pads(GstTensorSync *self) {
+  SyncPriv *p = priv_of(self);
+  GstElement *e = GST_ELEMENT(self);
+  GST_OBJECT_LOCK(self);
+  if (!p->pad_list || p->pads_cookie != e->pads_cookie) {
+    p->pad_list = std::make_shared<const PadList>(e);
+    p->pads_cookie = e->pads_cookie;
+  }
+  std::shared_ptr<const PadList> list = p->pad_list;
+  GST_OBJECT_UNLOCK(self);
+  return list;
+}
+
 class PadInputs final : public nns::SyncInputs {
  public:
   // refresh_pad/refresh_buf: in refresh mode the only "queued" buffer is the arriving one.
   PadInputs(GstTensorSync *self, std::optional<std::size_t> refresh_pad = std::nullopt,
             GstBuffer *refresh_buf = nullptr)
-      : self_(self), refresh_pad_(refresh_pad), refresh_buf_(refresh_buf) {
-    GST_OBJECT_LOCK(self);
-    for (GList *l = GST_ELEMENT(self)->sinkpads; l; l = l->next)
-      pads_.push_back(GST_TENSOR_SYNC_PAD(gst_object_ref(l->data)));
-    GST_OBJECT_UNLOCK(self);
-    heads_.assign(pads_.size(), nullptr);
-    peeked_.assign(pads_.size(), false);
+      : self_(self),
+        list_(current_pads(self)),
+        n_(list_->pads.size()),
+        refresh_pad_(refresh_pad),
+        refresh_buf_(refresh_buf) {
+    // Per-pad scratch inline for the usual few pads; no allocation per output.
+    if (n_ > kInline) {
+      heap_.resize(n_);
+      heads_ = heap_.data();
+    } else {
+      heads_ = inline_;
+    }
+    for (std::size_t i = 0; i < n_; ++i) heads_[i] = Head{};
   }
   ~PadInputs() override {
-    for (auto *h : heads_)
-      if (h) gst_buffer_unref(h);
-    for (auto *p : pads_) gst_object_unref(p);
+    for (std::size_t i = 0; i < n_; ++i)
+      if (heads_[i].buf) gst_buffer_unref(heads_[i].buf);
     if (refresh_buf_) gst_buffer_unref(refresh_buf_);
   }
   PadInputs(const PadInputs &) = delete;
   PadInputs &operator=(const PadInputs &) = delete;
 
-  std::size_t count() const override { return pads_.size(); }
+  std::size_t count() const override { return n_; }
   std::optional<uint64_t> head_pts(std::size_t i) override {
     GstBuffer *h = head(i);
     if (!h) return std::nullopt;
     return GST_BUFFER_PTS(h);
   }
   std::optional<uint64_t> last_pts(std::size_t i) override {
-    if (!pads_[i]->last) return std::nullopt;
-    return GST_BUFFER_PTS(pads_[i]->last);
+    GstBuffer *last = pad(i)->last;
+    if (!last) return std::nullopt;
+    return GST_BUFFER_PTS(last);
   }
   void take_head(std::size_t i) override {
     GstBuffer *b;
@@ -190,46 +231,60 @@ class PadInputs final : public nns::SyncInputs {
       b = refresh_buf_;
       refresh_buf_ = nullptr;
     } else {
-      b = gst_aggregator_pad_pop_buffer(GST_AGGREGATOR_PAD(pads_[i]));
-      if (heads_[i]) gst_buffer_unref(heads_[i]);
-      heads_[i] = nullptr;
-      peeked_[i] = false;
+      b = gst_aggregator_pad_pop_buffer(agg_pad(i));
+      if (heads_[i].buf) gst_buffer_unref(heads_[i].buf);
+      heads_[i] = Head{};
     }
-    if (pads_[i]->last) gst_buffer_unref(pads_[i]->last);
-    pads_[i]->last = b;
+    GstTensorSyncPad *sp = pad(i);
+    if (sp->last) gst_buffer_unref(sp->last);
+    sp->last = b;
   }
   void set_time_source(std::size_t i) override {
     SyncPriv *p = priv_of(self_);
     gst_buffer_replace(&p->time_src, head(i));
   }
 
-  GstTensorSyncPad *pad(std::size_t i) const { return pads_[i]; }
+  GstTensorSyncPad *pad(std::size_t i) const {
+    return reinterpret_cast<GstTensorSyncPad *>(list_->pads[i]);
+  }
   // A pad that has no buffer yet but is not EOS (the aggregator was woken early).
   bool waiting_for_data() {
-    for (std::size_t i = 0; i < pads_.size(); ++i)
-      if (!head(i) && !gst_aggregator_pad_is_eos(GST_AGGREGATOR_PAD(pads_[i]))) return true;
+    for (std::size_t i = 0; i < n_; ++i)
+      if (!head(i) && !gst_aggregator_pad_is_eos(agg_pad(i))) return true;
     return false;
   }
   bool all_eos() const {
-    for (auto *p : pads_)
-      if (!gst_aggregator_pad_is_eos(GST_AGGREGATOR_PAD(p))) return false;
+    for (std::size_t i = 0; i < n_; ++i)
+      if (!gst_aggregator_pad_is_eos(agg_pad(i))) return false;
     return true;
   }
 
  private:
+  struct Head {
+    GstBuffer *buf = nullptr;
+    bool peeked = false;
+  };
+  static constexpr std::size_t kInline = 16;
+
+  GstAggregatorPad *agg_pad(std::size_t i) const {
+    return reinterpret_cast<GstAggregatorPad *>(list_->pads[i]);
+  }
   GstBuffer *head(std::size_t i) {
     if (refresh_pad_) return i == *refresh_pad_ ? refresh_buf_ : nullptr;
-    if (!peeked_[i]) {
-      heads_[i] = gst_aggregator_pad_peek_buffer(GST_AGGREGATOR_PAD(pads_[i]));
-      peeked_[i] = true;
+    Head &h = heads_[i];
+    if (!h.peeked) {
+      h.buf = gst_aggregator_pad_peek_buffer(agg_pad(i));
+      h.peeked = true;
     }
-    return heads_[i];
+    return h.buf;
   }
 
   GstTensorSync *self_;
-  std::vector<GstTensorSyncPad *> pads_;
-  std::vector<GstBuffer *> heads_;
-  std::vector<bool> peeked_;
+  std::shared_ptr<const PadList> list_;
+  std::size_t n_;
+  Head inline_[kInline];
+  std::vector<Head> heap_;
+  Head *heads_;
   std::optional<std::size_t> refresh_pad_;
   GstBuffer *refresh_buf_;
 };
@@ -497,6 +552,9 @@ static gboolean gst_tensor_sync_stop(GstAggregator *agg) {
   if (p->queue_auto) g_object_set(agg, "latency", GstClockTime(0), nullptr);
   p->queue_auto = false;
   clear_pads(GST_TENSOR_SYNC(agg));
+  GST_OBJECT_LOCK(agg);
+  p->pad_list.reset();
+  GST_OBJECT_UNLOCK(agg);
   return TRUE;
 }
 
@@ -518,6 +576,7 @@ static void gst_tensor_sync_finalize(GObject *object) {
   auto *self = GST_TENSOR_SYNC(object);
   SyncPriv *p = priv_of(self);
   gst_buffer_replace(&p->time_src, nullptr);
+  p->pad_list.reset();
   delete p;
   G_OBJECT_CLASS(gst_tensor_sync_parent_class)->finalize(object);
 }

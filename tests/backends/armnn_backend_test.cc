@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "backends/backend_lib.h"
+#include "backends/backend_loader.h"
 #include "support/harness.h"
 
 namespace {
@@ -20,8 +20,7 @@ using nns::test::tensor_desc;
 using nns::test::tensors_desc;
 
 const BackendLib &lib() {
-  static BackendLib l("armnn");
-  return l;
+  return nns::test::backend_lib("armnn");
 }
 
 #define REQUIRE_BACKEND()                                                 \
@@ -151,13 +150,13 @@ TEST(ArmnnBackend, DeviceChoice) {
   NNS_REQUIRE_SHARED_MODELS();
   for (const char *custom : {"Backend:CpuRef", "backend:cpuref", " Backend : CpuRef "}) {
     Props p = add_props();
-    p.set_custom(custom);
+    p.custom = custom;
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), 0) << custom << ": " << inst.error();
   }
   for (const char *accl : {"true:cpu", "true:gpu,cpu", "true:npu", "false:gpu", "true:auto"}) {
     Props p = add_props();
-    p.set_accelerator(accl);
+    p.accelerator = accl;
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), 0) << accl << ": " << inst.error();
     if (inst.rc() == 0) {
@@ -269,7 +268,7 @@ TEST(ArmnnBackendErrors, CustomAndAccelerator) {
   NNS_REQUIRE_SHARED_MODELS();
   {
     Props p = add_props();
-    p.set_custom("Backend:CpuRef,NumThreads:2");
+    p.custom = "Backend:CpuRef,NumThreads:2";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -EINVAL);
     EXPECT_NE(inst.error().find("unknown custom option 'NumThreads'"), std::string::npos)
@@ -278,7 +277,7 @@ TEST(ArmnnBackendErrors, CustomAndAccelerator) {
   if (lib().api()->check_accelerator("gpu") == 0) GTEST_SKIP() << "Arm NN has a GPU here";
   {
     Props p = add_props();
-    p.set_custom("Backend:GpuAcc");
+    p.custom = "Backend:GpuAcc";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -ENODEV);
     EXPECT_NE(inst.error().find("Backend:GpuAcc: no such Arm NN device here (registered: "),
@@ -288,7 +287,7 @@ TEST(ArmnnBackendErrors, CustomAndAccelerator) {
   }
   {
     Props p = add_props();
-    p.set_accelerator("true:gpu");
+    p.accelerator = "true:gpu";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -ENODEV);
     EXPECT_NE(inst.error().find("accelerator=true:gpu: none of these devices"), std::string::npos)

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// Test helpers that load a filter back end .so directly (dlopen + nns_filter_backend_entry),
-// build nns_filter_props, and read the generated models' JSON sidecars
-// (tests/data/generate_models.py). Header-only; included by tests/backends/*_test.cc.
+// Test helpers that load a filter back end .so directly through its C ABI (dlopen +
+// nns_filter_backend_entry), build nns_filter_props, wrap one opened instance, and read the
+// generated models' JSON sidecars (tests/data/generate_models.py). Header-only; included by
+// tests/backends/*_test.cc, tests/pipelines, tests/slow and bench/pytorch_pipeline_bench.cc.
 #pragma once
 
 #include <dlfcn.h>
-#include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 #include <cerrno>
@@ -14,7 +15,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,35 +45,58 @@ inline std::string backend_path(const std::string &name) {
   return filters_dir() + "/libnnstreamer_filter_" + name + ".so";
 }
 
-// A dlopen'ed back end. Stays loaded for the process (back ends may register static state).
-struct LoadedBackend {
-  void *handle = nullptr;
-  const nns_filter_backend_i *api = nullptr;
+// One dlopen'ed back end (libnnstreamer_filter_<name>.so). ok() is false and error() says why
+// when the .so is absent, does not load, or has another ABI version.
+class BackendLib {
+ public:
+  explicit BackendLib(const std::string &name) {
+    std::string path = backend_path(name);
+    if (!std::filesystem::exists(path)) {
+      error_ = path + " was not built (its runtime is missing)";
+      return;
+    }
+    handle_ = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle_) {
+      error_ = std::string("dlopen failed: ") + dlerror();
+      return;
+    }
+    auto entry =
+        reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(handle_, NNS_FILTER_BACKEND_ENTRY));
+    if (!entry) {
+      error_ = path + " does not export " NNS_FILTER_BACKEND_ENTRY;
+      return;
+    }
+    const nns_filter_backend_i *api = entry();
+    if (!api || api->api_version != NNS_FILTER_BACKEND_API_VERSION) {
+      error_ = path + ": wrong API version";
+      return;
+    }
+    api_ = api;
+  }
+  // Deliberately never dlclose()d: back ends register static state and runtimes such as
+  // libtorch do not unload cleanly.
+  BackendLib(const BackendLib &) = delete;
+  BackendLib &operator=(const BackendLib &) = delete;
+
+  bool ok() const { return api_ != nullptr; }
+  const std::string &error() const { return error_; }
+  const nns_filter_backend_i *api() const { return api_; }
+  void *sym(const char *name) const { return handle_ ? dlsym(handle_, name) : nullptr; }
+
+ private:
+  void *handle_ = nullptr;
+  const nns_filter_backend_i *api_ = nullptr;
+  std::string error_;
 };
 
-// Loads libnnstreamer_filter_<name>.so; on failure returns nullopt and sets *why.
-inline std::optional<LoadedBackend> load_backend(const std::string &name, std::string *why) {
-  std::string path = backend_path(name);
-  if (!std::filesystem::exists(path)) {
-    if (why) *why = path + " is not built";
-    return std::nullopt;
-  }
-  void *h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!h) {
-    if (why) *why = std::string("dlopen failed: ") + dlerror();
-    return std::nullopt;
-  }
-  auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
-  if (!entry) {
-    if (why) *why = path + " does not export " NNS_FILTER_BACKEND_ENTRY;
-    return std::nullopt;
-  }
-  LoadedBackend b{h, entry()};
-  if (!b.api || b.api->api_version != NNS_FILTER_BACKEND_API_VERSION) {
-    if (why) *why = path + ": wrong API version";
-    return std::nullopt;
-  }
-  return b;
+// The process-wide BackendLib for `name` (loaded on first use, kept for the process).
+inline const BackendLib &backend_lib(const std::string &name) {
+  static std::mutex mu;
+  static std::map<std::string, std::unique_ptr<BackendLib>> libs;
+  std::lock_guard lk(mu);
+  auto &l = libs[name];
+  if (!l) l = std::make_unique<BackendLib>(name);
+  return *l;
 }
 
 inline nns_tensor_desc make_desc(const std::string &name, tensor_type type,
@@ -83,82 +110,141 @@ inline nns_tensor_desc make_desc(const std::string &name, tensor_type type,
   return d;
 }
 
-// What a tensor_filter would pass: model files, custom=, input=/output= descriptions.
-struct Props {
-  std::vector<std::string> models;
-  std::string custom;
-  nns_tensors_desc input{};
-  nns_tensors_desc output{};
-  bool invoke_dynamic = false;
-  int num_threads = 0;
+inline nns_tensor_desc tensor_desc(uint32_t type, std::initializer_list<uint32_t> dims,
+                                   const char *name = "") {
+  nns_tensor_desc t{};
+  t.type = type;
+  std::size_t i = 0;
+  for (uint32_t d : dims) t.dims[i++] = d;
+  std::strncpy(t.name, name, sizeof(t.name) - 1);
+  return t;
+}
 
-  // Keep these alive while `get()`'s result is used.
+inline nns_tensors_desc tensors_desc(std::initializer_list<nns_tensor_desc> ts) {
+  nns_tensors_desc d{};
+  for (const auto &t : ts) d.tensors[d.num_tensors++] = t;
+  return d;
+}
+
+inline std::size_t desc_bytes(const nns_tensor_desc &t) {
+  static const std::size_t sizes[] = {4, 4, 2, 2, 1, 1, 8, 4, 8, 8, 2};
+  std::size_t n = 1;
+  bool any = false;
+  for (uint32_t d : t.dims) {
+    if (!d) break;
+    n *= d;
+    any = true;
+  }
+  return any && t.type < 11 ? n * sizes[t.type] : 0;
+}
+
+// What a tensor_filter would pass to open(): model files, custom=, accelerator=, input=/output=
+// descriptions. The pointers get() returns stay valid while this object lives and is unchanged.
+struct Props {
+  std::string framework;  // empty: Instance uses the back end's own name
+  std::vector<std::string> models;
+  nns_tensors_desc input{}, output{};
+  std::optional<std::string> custom, accelerator;  // nullopt: property not set (NULL)
+  int invoke_dynamic = 0, num_threads = 0;
+
   std::vector<const char *> model_ptrs;
   std::vector<tensor_layout> layouts = std::vector<tensor_layout>(NNS_TENSOR_SIZE_LIMIT);
-  nns_filter_props props{};
+  nns_filter_props p{};
 
-  const nns_filter_props *get(const char *framework) {
+  const nns_filter_props *get(const char *fw) {
+    framework = fw;
+    return get();
+  }
+  const nns_filter_props *get() {
     model_ptrs.clear();
-    for (auto &m : models) model_ptrs.push_back(m.c_str());
-    props = nns_filter_props{};
-    props.framework = framework;
-    props.model_files = model_ptrs.data();
-    props.num_models = static_cast<uint32_t>(model_ptrs.size());
-    props.input = &input;
-    props.output = &output;
-    props.custom = custom.empty() ? nullptr : custom.c_str();
-    props.input_layout = layouts.data();
-    props.output_layout = layouts.data();
-    props.invoke_dynamic = invoke_dynamic;
-    props.num_threads = num_threads;
-    return &props;
+    for (const auto &m : models) model_ptrs.push_back(m.c_str());
+    p = nns_filter_props{};
+    p.framework = framework.c_str();
+    p.model_files = model_ptrs.data();
+    p.num_models = static_cast<uint32_t>(models.size());
+    p.input = &input;
+    p.output = &output;
+    p.custom = custom ? custom->c_str() : nullptr;
+    p.accelerator = accelerator ? accelerator->c_str() : nullptr;
+    p.input_layout = layouts.data();
+    p.output_layout = layouts.data();
+    p.invoke_dynamic = invoke_dynamic;
+    p.num_threads = num_threads;
+    return &p;
   }
 };
 
-// An open back-end instance.
+// One opened back-end instance. Every call clears error() first; the `err` out-parameters
+// receive the same text.
 class Instance {
  public:
-  Instance(const nns_filter_backend_i *api, void *priv) : api_(api), priv_(priv) {}
+  Instance(const nns_filter_backend_i *api, Props &props) : api_(api) {
+    if (props.framework.empty()) props.framework = api->name;
+    rc_ = api_->open(props.get(), &priv_, reset_err(), sizeof(err_));
+    if (rc_ != 0) priv_ = nullptr;
+  }
   ~Instance() {
     if (priv_) api_->close(priv_);
   }
   Instance(const Instance &) = delete;
   Instance &operator=(const Instance &) = delete;
 
-  // Opens; on failure returns nullptr and fills rc/err.
+  // Opens; on failure returns nullptr. *rc / *err (when given) receive open()'s result.
   static std::unique_ptr<Instance> open(const nns_filter_backend_i *api, Props &p,
                                         int *rc = nullptr, std::string *err = nullptr) {
-    char buf[1024] = {0};
-    void *priv = nullptr;
-    int r = api->open(p.get(api->name), &priv, buf, sizeof(buf));
-    if (rc) *rc = r;
-    if (err) *err = buf;
-    if (r != 0) return nullptr;
-    return std::make_unique<Instance>(api, priv);
+    auto inst = std::make_unique<Instance>(api, p);
+    if (rc) *rc = inst->rc();
+    if (err) *err = inst->error();
+    if (inst->rc() != 0) return nullptr;
+    return inst;
   }
 
-  int info(nns_tensors_desc &in, nns_tensors_desc &out, std::string *err = nullptr) {
-    char buf[1024] = {0};
-    int r = api_->get_model_info(priv_, &in, &out, buf, sizeof(buf));
-    if (err) *err = buf;
-    return r;
-  }
-
-  int invoke(std::vector<GstTensorMemory> &in, std::vector<GstTensorMemory> &out,
-             std::string *err = nullptr) {
-    char buf[1024] = {0};
-    int r = api_->invoke(priv_, in.data(), static_cast<uint32_t>(in.size()), out.data(),
-                         static_cast<uint32_t>(out.size()), buf, sizeof(buf));
-    if (err) *err = buf;
-    return r;
-  }
-
+  int rc() const { return rc_; }
+  std::string error() const { return err_; }
   void *priv() const { return priv_; }
   const nns_filter_backend_i *api() const { return api_; }
 
+  // get_model_info into zeroed `in` / `out`.
+  int model_info(nns_tensors_desc &in, nns_tensors_desc &out, std::string *err = nullptr) {
+    in = nns_tensors_desc{};
+    out = nns_tensors_desc{};
+    return done(api_->get_model_info(priv_, &in, &out, reset_err(), sizeof(err_)), err);
+  }
+  int set_input_info(const nns_tensors_desc &in, nns_tensors_desc &out) {
+    return api_->set_input_info(priv_, &in, &out, reset_err(), sizeof(err_));
+  }
+  int invoke(const std::vector<GstTensorMemory> &in, std::vector<GstTensorMemory> &out,
+             std::string *err = nullptr) {
+    return done(api_->invoke(priv_, in.data(), static_cast<uint32_t>(in.size()), out.data(),
+                             static_cast<uint32_t>(out.size()), reset_err(), sizeof(err_)),
+                err);
+  }
+  // Sizes `out` to what the back end returned.
+  int invoke_dynamic(const nns_tensors_desc &in_info, const std::vector<GstTensorMemory> &in,
+                     nns_tensors_desc &out_info, std::vector<GstTensorMemory> &out) {
+    out.assign(NNS_TENSOR_SIZE_LIMIT, GstTensorMemory{});
+    int rc = api_->invoke_dynamic(priv_, &in_info, in.data(), &out_info, out.data(), reset_err(),
+                                  sizeof(err_));
+    if (rc == 0) out.resize(out_info.num_tensors);
+    return rc;
+  }
+  void free_output(void *data) { api_->free_output(priv_, data); }
+  int reload(Props &props) { return api_->reload(priv_, props.get(), reset_err(), sizeof(err_)); }
+
  private:
+  char *reset_err() {
+    err_[0] = '\0';
+    return err_;
+  }
+  int done(int rc, std::string *err) const {
+    if (err) *err = err_;
+    return rc;
+  }
+
   const nns_filter_backend_i *api_;
-  void *priv_;
+  void *priv_ = nullptr;
+  int rc_ = 0;
+  char err_[2048];
 };
 
 // One tensor of a generated model's sidecar, with its reference bytes.

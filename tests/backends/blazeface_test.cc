@@ -54,9 +54,8 @@ std::vector<uint8_t> rgb_of(const std::string &png, int size) {
 }
 
 TEST(BlazeFace, FindsTheAstronautsFace) {
-  std::string why;
-  auto b = load_backend("onnxruntime", &why);
-  if (!b) GTEST_SKIP() << "onnxruntime back end unavailable: " << why;
+  const BackendLib &b = backend_lib("onnxruntime");
+  if (!b.ok()) GTEST_SKIP() << "onnxruntime back end unavailable: " << b.error();
   if (!std::filesystem::exists(blazeface_model()))
     GTEST_SKIP() << blazeface_model() << " missing: run scripts/setup.sh (npm step)";
   if (!std::filesystem::exists(astronaut()))
@@ -66,10 +65,10 @@ TEST(BlazeFace, FindsTheAstronautsFace) {
   p.models = {blazeface_model()};
   p.custom = "NumThreads:1";
   std::string err;
-  auto inst = Instance::open(b->api, p, nullptr, &err);
+  auto inst = Instance::open(b.api(), p, nullptr, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_EQ(desc_string(in.tensors[0]), "'input:0' float32 3:128:128:1");
   ASSERT_EQ(out.num_tensors, 4u);
   EXPECT_EQ(desc_string(out.tensors[0]), "'Identity:0' float32 1:512:1");

@@ -35,10 +35,9 @@ class FilterConformance : public ::testing::TestWithParam<Param> {
  protected:
   void SetUp() override {
     const auto &[kind, model] = GetParam();
-    std::string why;
-    auto b = load_backend(kind.framework, &why);
-    if (!b) GTEST_SKIP() << "back end '" << kind.framework << "' not available: " << why;
-    api_ = b->api;
+    const BackendLib &b = backend_lib(kind.framework);
+    if (!b.ok()) GTEST_SKIP() << "back end '" << kind.framework << "' not available: " << b.error();
+    api_ = b.api();
     ref_ = load_ref(model);
     ASSERT_TRUE(ref_) << "generated model " << model << " missing in " << models_dir()
                       << " (is /usr/bin/python3 with torch+onnx installed?)";
@@ -97,7 +96,7 @@ TEST_P(FilterConformance, ModelInfoMatchesReference) {
   auto inst = Instance::open(api_, p, &rc, &err);
   if (!inst) GTEST_SKIP() << "back end needs input=/output= for this model: " << err;
   nns_tensors_desc in{}, out{};
-  rc = inst->info(in, out, &err);
+  rc = inst->model_info(in, out, &err);
   if (rc == -ENOTSUP) GTEST_SKIP() << "back end does not report model info";
   ASSERT_EQ(rc, 0) << err;
   ASSERT_EQ(in.num_tensors, ref_->inputs.size());

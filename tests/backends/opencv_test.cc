@@ -14,10 +14,9 @@ namespace {
 class OpenCv : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string why;
-    auto b = load_backend("opencv", &why);
-    if (!b) GTEST_SKIP() << "opencv back end unavailable: " << why;
-    api_ = b->api;
+    const BackendLib &b = backend_lib("opencv");
+    if (!b.ok()) GTEST_SKIP() << "opencv back end unavailable: " << b.error();
+    api_ = b.api();
   }
   std::unique_ptr<Instance> open(Props &p, std::string *err = nullptr, int *rc = nullptr) {
     return Instance::open(api_, p, rc, err);
@@ -60,7 +59,7 @@ TEST_F(OpenCv, CaffeLenetClassifiesNine) {
     auto inst = open(p, &err);
     ASSERT_TRUE(inst) << err;
     nns_tensors_desc in{}, out{};
-    ASSERT_EQ(inst->info(in, out, &err), 0) << err;
+    ASSERT_EQ(inst->model_info(in, out, &err), 0) << err;
     ASSERT_EQ(in.num_tensors, 1u);
     EXPECT_EQ(desc_string(in.tensors[0]), "float32 28:28:1:1");
     ASSERT_EQ(out.num_tensors, 1u);
@@ -83,7 +82,7 @@ TEST_F(OpenCv, OnnxInfoIsReadFromTheFile) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   ASSERT_EQ(in.num_tensors, 2u);
   EXPECT_EQ(desc_string(in.tensors[0]), "'a' float32 4:3:1");
   EXPECT_EQ(desc_string(in.tensors[1]), "'b' float32 4:3:1");
@@ -96,7 +95,7 @@ TEST_F(OpenCv, OnnxInfoIsReadFromTheFile) {
   p.models = {u->file("onnx")};
   inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_EQ(desc_string(in.tensors[0]), "'pixels' uint8 3:8:8:1");
 }
 
@@ -114,7 +113,7 @@ TEST_F(OpenCv, TensorflowGraphNeedsInputProperty) {
   auto inst = open(p, &err);
   ASSERT_TRUE(inst) << err;
   nns_tensors_desc in{}, out{};
-  ASSERT_EQ(inst->info(in, out), 0);
+  ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_EQ(desc_string(out.tensors[0]), "'softmax' float32 10:1");
   std::vector<uint8_t> raw = read_file(shared_models_dir() + "/data/9.raw");
   std::vector<float> x(784), prob(10);

@@ -11,7 +11,7 @@
 #include <numeric>
 
 #include "../../backends/filter/pytorch/pytorch_stats.h"
-#include "backends/backend_lib.h"
+#include "backends/backend_loader.h"
 #include "support/harness.h"
 
 namespace {
@@ -23,8 +23,7 @@ using nns::test::tensor_desc;
 using nns::test::tensors_desc;
 
 const BackendLib &lib() {
-  static BackendLib l("pytorch");
-  return l;
+  return nns::test::backend_lib("pytorch");
 }
 
 #define REQUIRE_BACKEND()                                                   \
@@ -516,13 +515,13 @@ TEST(PytorchBackendErrors, CustomOptions) {
   NNS_REQUIRE_SHARED_MODELS();
   {
     Props p = lenet_props();
-    p.set_custom("NumThreads:1,use_gpu:false");
+    p.custom = "NumThreads:1,use_gpu:false";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), 0) << inst.error();
   }
   for (const char *opt : {"OptimizeForInference:false", "OptimizeForInference:true"}) {
     Props p = lenet_props();
-    p.set_custom(opt);
+    p.custom = opt;
     Instance inst(lib().api(), p);
     ASSERT_EQ(inst.rc(), 0) << opt << ": " << inst.error();
     std::vector<uint8_t> digit =
@@ -536,7 +535,7 @@ TEST(PytorchBackendErrors, CustomOptions) {
   }
   {
     Props p = lenet_props();
-    p.set_custom("numthreads:1, Bogus_Key:3");
+    p.custom = "numthreads:1, Bogus_Key:3";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -EINVAL);
     EXPECT_NE(inst.error().find("unknown custom option 'Bogus_Key'"), std::string::npos)
@@ -544,14 +543,14 @@ TEST(PytorchBackendErrors, CustomOptions) {
   }
   {
     Props p = lenet_props();
-    p.set_custom("NumThreads:many");
+    p.custom = "NumThreads:many";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -EINVAL);
     EXPECT_NE(inst.error().find("NumThreads:many"), std::string::npos) << inst.error();
   }
   {
     Props p = lenet_props();
-    p.set_custom("use_gpu");
+    p.custom = "use_gpu";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -EINVAL);
     EXPECT_NE(inst.error().find("'use_gpu' is not of the form key:value"), std::string::npos)
@@ -559,7 +558,7 @@ TEST(PytorchBackendErrors, CustomOptions) {
   }
   {
     Props p = lenet_props();
-    p.set_custom("use_gpu:true");
+    p.custom = "use_gpu:true";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -ENODEV);
     EXPECT_NE(inst.error().find("no usable CUDA device"), std::string::npos) << inst.error();
@@ -571,14 +570,14 @@ TEST(PytorchBackendErrors, Accelerator) {
   NNS_REQUIRE_SHARED_MODELS();
   {
     Props p = lenet_props();
-    p.set_accelerator("true:gpu");
+    p.accelerator = "true:gpu";
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), -ENODEV);
     EXPECT_NE(inst.error().find("accelerator=true:gpu"), std::string::npos) << inst.error();
   }
   for (const char *a : {"true:gpu,cpu", "true:cpu", "false:gpu", "true:npu,auto"}) {
     Props p = lenet_props();
-    p.set_accelerator(a);
+    p.accelerator = a;
     Instance inst(lib().api(), p);
     EXPECT_EQ(inst.rc(), 0) << a << ": " << inst.error();
   }

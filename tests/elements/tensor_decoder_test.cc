@@ -169,25 +169,30 @@ TEST(TensorDecoder, ImageLabelingUint8FirstMaxWins) {
   EXPECT_EQ(std::string(out.begin(), out.end()), "b");
 }
 
-// mobilenet_v2 (onnxruntime) on orange.raw -> "orange".
+// mobilenet_v2_quant.onnx (onnxruntime) on orange.raw with torchvision's ImageNet
+// normalisation -> index 950 of the 1000-line ImageNet labels -> "orange".
 TEST(TensorDecoder, ImageLabelingMobilenetOrange) {
   NNS_REQUIRE_SHARED_MODELS();
   const char *fdir = g_getenv("NNSTREAMER_FILTERS");
   if (!fdir || !std::filesystem::exists(std::string(fdir) + "/libnnstreamer_filter_onnxruntime.so"))
     GTEST_SKIP() << "onnxruntime filter back end not built";
   std::string d = nns::test::shared_models_dir();
+  std::string labels = nns::test::imagenet_labels_1000();
+  ASSERT_FALSE(labels.empty()) << "build/data/imagenet_labels_1000.txt was not generated from " << d
+                               << "/labels/labels.txt; re-run cmake";
   std::string desc =
       "filesrc location=" + d +
       "/data/orange.raw blocksize=-1 ! "
       "application/octet-stream ! tensor_converter input-dim=3:224:224:1 input-type=uint8 ! "
+      "tensor_transform mode=arithmetic option=typecast:float32,per-channel:true@0,"
+      "add:-123.675@0,add:-116.280@1,add:-103.530@2,div:58.3950@0,div:57.1200@1,div:57.3750@2 ! "
       "tensor_transform mode=transpose option=1:2:0:3 ! "
-      "tensor_transform mode=arithmetic option=typecast:float32,div:127.5,add:-1 ! "
       "tensor_filter framework=onnxruntime model=" +
       d +
       "/models/mobilenet_v2_quant.onnx ! "
       "tensor_decoder mode=image_labeling option1=" +
-      d +
-      "/labels/labels.txt ! "
+      labels +
+      " ! "
       "appsink name=out sync=false";
   GError *err = nullptr;
   GstElement *pipe = gst_parse_launch(desc.c_str(), &err);

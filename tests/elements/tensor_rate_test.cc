@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "elements/flow_harness.h"
+#include "gst/tensor_caps.h"
 #include "tensor_filter_custom_easy.h"
 
 namespace {
@@ -192,9 +193,8 @@ TEST(TensorRate, ThrottleMakesAnUpstreamFilterSkipFrames) {
       EXPECT_GE(g_invocations.load(), 9);
       EXPECT_GE(p.frames("out").size(), 9u);
     } else {
-      // (No output count here: tensor_filter currently announces downstream's 10/1 instead of
-      // its input's 30/1, which makes tensor_rate pass through.)
       EXPECT_EQ(g_invocations.load(), 30);
+      EXPECT_EQ(p.frames("out").size(), 11u);  // the filter keeps 30/1; tensor_rate makes 10/1
     }
   }
   EXPECT_EQ(NNS_custom_easy_unregister("flow_rate_count"), 0);
@@ -224,3 +224,62 @@ TEST(TensorRate, PropertiesAsUpstream) {
 }
 
 }  // namespace
+
+GstPadProbeReturn record_caps(GstPad *, GstPadProbeInfo *info, gpointer user) {
+  GstEvent *ev = GST_PAD_PROBE_INFO_EVENT(info);
+  if (GST_EVENT_TYPE(ev) == GST_EVENT_CAPS) {
+    GstCaps *caps;
+    gst_event_parse_caps(ev, &caps);
+    *static_cast<std::string *>(user) = nns::gst::caps_to_string(caps);
+  }
+  return GST_PAD_PROBE_OK;
+}
+
+// Records the caps that `element`'s src pad sends into `*out`.
+void watch_caps(AppPipeline &p, const char *element, std::string *out) {
+  GstElement *e = p.get(element);
+  GstPad *pad = gst_element_get_static_pad(e, "src");
+  gst_pad_add_probe(pad, GST_PAD_PROBE_TYPE_EVENT_DOWNSTREAM, record_caps, out, nullptr);
+  gst_object_unref(pad);
+  gst_object_unref(e);
+}
+
+int pass_copy(void *, const GstTensorFilterProperties *, const GstTensorMemory *in,
+              GstTensorMemory *out) {
+  std::memcpy(out[0].data, in[0].data, in[0].size);
+  return 0;
+}
+
+// tensor_rate converts any input rate, so its sink side must not push its target rate upstream:
+// the chain above it keeps the source's 30/1 and tensor_rate alone turns it into 10/1.
+TEST(TensorRate, UpstreamKeepsItsOwnFramerate) {
+  GstTensorsInfo info{};
+  info.num_tensors = 1;
+  info.info[0].type = _NNS_UINT8;
+  info.info[0].dimension[0] = 1;
+  info.info[0].dimension[1] = 4;
+  info.info[0].dimension[2] = 4;
+  info.info[0].dimension[3] = 1;
+  info.format = _NNS_TENSOR_FORMAT_STATIC;
+  ASSERT_EQ(NNS_custom_easy_register("rate_pass", pass_copy, nullptr, &info, &info), 0);
+  for (const char *mid : {"tensor_filter name=mid framework=custom-easy model=rate_pass",
+                          "tensor_transform name=mid mode=typecast option=uint8"}) {
+    SCOPED_TRACE(mid);
+    AppPipeline p(
+        "videotestsrc num-buffers=30 ! video/x-raw,format=GRAY8,width=4,height=4,framerate=30/1 "
+        "! tensor_converter name=conv ! " +
+        std::string(mid) + " ! tensor_rate name=rate framerate=10/1 throttle=false ! " +
+        "appsink name=out");
+    std::string conv, m, rate;
+    watch_caps(p, "conv", &conv);
+    watch_caps(p, "mid", &m);
+    watch_caps(p, "rate", &rate);
+    auto r = p.run(10);
+    ASSERT_TRUE(r.eos) << r.error_text;
+    EXPECT_NE(conv.find("framerate=(fraction)30/1"), std::string::npos) << conv;
+    EXPECT_NE(m.find("framerate=(fraction)30/1"), std::string::npos) << m;
+    EXPECT_NE(rate.find("framerate=(fraction)10/1"), std::string::npos) << rate;
+    EXPECT_EQ(p.frames("out").size(), 11u);  // 0.0 s .. 1.0 s as DownConvert30To10
+  }
+  EXPECT_EQ(NNS_custom_easy_unregister("rate_pass"), 0);
+}

@@ -3,7 +3,8 @@
 // Paths: `../shared/` is the shared folder beside the source tree (commands using it are skipped
 // when it is absent); `/tmp/<file>` outputs go to a temporary folder instead; `third_party/...`
 // (npm models fetched by scripts/setup.sh) is the source tree's, commands using it are skipped
-// when the file is absent.
+// when the file is absent; `build/...` (files the build makes, e.g. data/imagenet_labels_1000.txt)
+// is this build tree's.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -57,6 +58,7 @@ TEST(ReadmePipelines, EveryGstLaunchCommandRunsToEos) {
       nns::test::replace_all(&desc, "../shared/", shared_root + "/");
     }
     nns::test::replace_all(&desc, "location=/tmp/", "location=" + tmp + "/");
+    nns::test::replace_all(&desc, "=build/", "=" + std::string(NNS_BUILD_DIR) + "/");
     // Models fetched by scripts/setup.sh (third_party/npm/...) are relative to the source tree;
     // a command needing one that is not fetched is skipped.
     if (desc.find("=third_party/") != std::string::npos) {

@@ -7,13 +7,13 @@
 #include <algorithm>
 #include <fstream>
 
-#include "backends/backend_lib.h"
+#include "backends/backend_loader.h"
 #include "support/harness.h"
 
 namespace {
 
 TEST(ArmnnMobilenet, OrangeIsClass951) {
-  nns::test::BackendLib lib("armnn");
+  const nns::test::BackendLib &lib = nns::test::backend_lib("armnn");
   if (!lib.ok()) GTEST_SKIP() << "armnn back end: " << lib.error();
   NNS_REQUIRE_SHARED_MODELS();
   const std::string dir = nns::test::shared_models_dir();

@@ -68,6 +68,12 @@ std::string shared_models_dir() {
   return fs::exists(p) ? fs::canonical(p).string() : std::string();
 }
 
+std::string imagenet_labels_1000() {
+  std::filesystem::path p =
+      std::filesystem::path(NNS_BUILD_DIR) / "data" / "imagenet_labels_1000.txt";
+  return std::filesystem::exists(p) ? p.string() : std::string();
+}
+
 std::string make_temp_dir() {
   char tmpl[] = "/tmp/nns-test-XXXXXX";
   char *d = mkdtemp(tmpl);

@@ -50,6 +50,11 @@ std::string shared_models_dir();
       GTEST_SKIP() << "../shared/models is not beside the project; skipping model test"; \
   } while (0)
 
+// build/data/imagenet_labels_1000.txt (absolute): the 1000 ImageNet labels in the 1000-class
+// order, derived at build time from ../shared's 1001-line labels.txt without "background"
+// (cmake/imagenet_labels.cmake); "" if it was not generated.
+std::string imagenet_labels_1000();
+
 // A fresh temporary folder, removed by the caller (or left in /tmp).
 std::string make_temp_dir();
 

@@ -9,10 +9,13 @@
 
 #ifdef NNS_HAVE_WIRE
 #include <dlfcn.h>
+#include <flatbuffers/flexbuffers.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 
+#include "core/meta_header.h"
 #include "nnstreamer/nnstreamer_plugin_api_decoder.h"
 #include "wire.h"
 
@@ -120,6 +123,208 @@ TEST(WirePipeline, CorruptInputIsABusError) {
     EXPECT_TRUE(r.error);
     EXPECT_NE(std::string::npos, r.error_text.find("tensorconverter")) << r.error_text;
     EXPECT_NE(std::string::npos, r.error_text.find(nns::wire::format_name(fmt))) << r.error_text;
+    // The sub-plugin's reason reaches the bus (nns_converter_subplugin_last_error).
+    const std::string reason = std::string("returned no buffer: ") + nns::wire::format_name(fmt) +
+                               ": input (" + std::to_string(bytes.size()) + " bytes)";
+    EXPECT_NE(std::string::npos, r.error_text.find(reason)) << r.error_text;
+    if (fmt == Format::kProtobuf)
+      EXPECT_NE(std::string::npos,
+                r.error_text.find("truncated at byte " + std::to_string(bytes.size())))
+          << r.error_text;
+    else
+      EXPECT_NE(std::string::npos, r.error_text.find("truncated")) << r.error_text;
+  }
+}
+
+// A frame that parses but lies (num_tensor disagrees): the reason names the field.
+TEST(WirePipeline, InconsistentFrameReasonOnBus) {
+  const std::string dir = nns::test::make_temp_dir();
+  Sample s;
+  std::vector<uint8_t> bytes;
+  nns::wire::encode(Format::kFlexbuf, s.frame, bytes);
+  // Re-encode with a wrong count through the flexbuffers builder.
+  flexbuffers::Builder b;
+  b.Map([&]() {
+    b.UInt("num_tensors", 3);
+    b.Vector("tensor_0", [&]() {
+      b.String("a");
+      b.Int(5);
+      b.Vector(std::vector<uint32_t>{4}.data(), 1);
+      b.Blob(s.a.data(), 4);
+    });
+  });
+  b.Finish();
+  const std::string path = dir + "/lying.flexbuf";
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char *>(b.GetBuffer().data()), b.GetSize());
+  auto r = nns::test::run_pipeline("filesrc location=" + path +
+                                   " ! other/flexbuf ! tensor_converter ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(std::string::npos, r.error_text.find("flexbuf: tensor_1: missing or not a vector"))
+      << r.error_text;
+}
+
+// tensor_decoder mode=<fmt> ! tensor_converter inside one bin: exact tensors and caps back for
+// every type, ranks 1, 3 and 16, and a three-tensor frame.
+struct RoundTripCase {
+  std::vector<std::pair<std::string, std::string>> tensors;  // (type, dims)
+};
+
+std::size_t type_bytes(const std::string &t) {
+  if (t == "int8" || t == "uint8") return 1;
+  if (t == "int16" || t == "uint16" || t == "float16") return 2;
+  if (t == "int32" || t == "uint32" || t == "float32") return 4;
+  return 8;
+}
+
+std::size_t dims_elements(const std::string &d) {
+  std::size_t n = 1, v = 0;
+  for (char c : d + ":") {
+    if (c == ':') {
+      n *= v;
+      v = 0;
+    } else {
+      v = v * 10 + static_cast<std::size_t>(c - '0');
+    }
+  }
+  return n;
+}
+
+void round_trip(Format fmt, const RoundTripCase &rc) {
+  std::string types, dims;
+  for (const auto &t : rc.tensors) {
+    types += (types.empty() ? "" : ",") + t.first;
+    dims += (dims.empty() ? "" : ",") + t.second;
+  }
+  const std::string caps =
+      "other/tensors,format=static,num_tensors=" + std::to_string(rc.tensors.size()) +
+      ",types=(string)\"" + types + "\",dimensions=(string)\"" + dims +
+      "\",framerate=(fraction)15/1";
+  SCOPED_TRACE(std::string(nns::wire::format_name(fmt)) + " " + caps);
+  HarnessPtr h(gst_harness_new_parse(
+      (std::string("tensor_decoder mode=") + nns::wire::format_name(fmt) + " ! tensor_converter")
+          .c_str()));
+  gst_harness_set_src_caps_str(h.get(), caps.c_str());
+  GstBuffer *in = gst_buffer_new();
+  std::vector<std::vector<uint8_t>> want;
+  for (std::size_t i = 0; i < rc.tensors.size(); ++i) {
+    std::vector<uint8_t> v(type_bytes(rc.tensors[i].first) * dims_elements(rc.tensors[i].second));
+    for (std::size_t k = 0; k < v.size(); ++k) v[k] = static_cast<uint8_t>(k * 31 + i * 7 + 3);
+    gpointer copy = g_memdup2(v.data(), v.size());
+    gst_buffer_append_memory(in, gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, copy, v.size(), 0,
+                                                        v.size(), copy, g_free));
+    want.push_back(std::move(v));
+  }
+  ASSERT_EQ(GST_FLOW_OK, gst_harness_push(h.get(), in));
+  GstBuffer *out = gst_harness_pull(h.get());
+  ASSERT_NE(nullptr, out);
+  ASSERT_EQ(want.size(), gst_buffer_n_memory(out));
+  for (std::size_t i = 0; i < want.size(); ++i)
+    EXPECT_EQ(want[i], bytes_of(gst_buffer_peek_memory(out, static_cast<guint>(i)))) << i;
+  gst_buffer_unref(out);
+  std::string got = caps_of(h->sinkpad);
+  got.erase(std::remove(got.begin(), got.end(), '\\'), got.end());  // "a\,b" -> "a,b"
+  EXPECT_NE(std::string::npos, got.find(types)) << got;
+  EXPECT_NE(std::string::npos, got.find(dims)) << got;
+  EXPECT_NE(std::string::npos, got.find("15/1")) << got;
+}
+
+TEST(WirePipeline, DecoderConverterRoundTripEveryTypeAndRank) {
+  const char *types[] = {"int32",   "uint32",  "int16", "uint16", "int8",   "uint8",
+                         "float64", "float32", "int64", "uint64", "float16"};
+  const std::string rank16 = "2:1:1:1:1:1:1:1:1:1:1:1:1:1:1:3";
+  for (Format fmt : kFormats) {
+    for (const char *t : types) {
+      for (const std::string &d : {std::string("7"), std::string("3:2:4"), rank16})
+        round_trip(fmt, {{{t, d}}});
+    }
+    round_trip(fmt, {{{"uint8", "3:4"}, {"float32", "2:2:2"}, {"int64", "5"}}});
+  }
+}
+
+// End to end: a flexbuf file whose frame is format=flexible (each tensor = 128-byte header +
+// payload) -> tensor_converter (flexible output) -> tensor_decoder mode=octet_stream: the
+// payloads, headers stripped, one after the other.
+TEST(WirePipeline, FlexibleFrameThroughConverterAndDecoder) {
+  const std::string dir = nns::test::make_temp_dir();
+  std::vector<std::vector<uint8_t>> mems;
+  std::vector<uint8_t> want;
+  nns::wire::Frame f;
+  f.format = 1;
+  f.rate_n = 0;
+  f.rate_d = 1;
+  const std::pair<nns::TensorType, nns::Dims> specs[] = {{nns::TensorType::kUInt8, {5}},
+                                                         {nns::TensorType::kInt16, {2, 3}}};
+  for (const auto &sp : specs) {
+    nns::MetaHeader h;
+    h.type = sp.first;
+    h.dims = sp.second;
+    h.format = nns::TensorFormat::kFlexible;
+    std::vector<uint8_t> m(nns::kMetaHeaderSize + h.payload_size());
+    nns::write_meta_header(h, m.data());
+    for (std::size_t k = nns::kMetaHeaderSize; k < m.size(); ++k)
+      m[k] = static_cast<uint8_t>(k * 5 + mems.size());
+    want.insert(want.end(), m.begin() + nns::kMetaHeaderSize, m.end());
+    mems.push_back(std::move(m));
+  }
+  for (std::size_t i = 0; i < mems.size(); ++i) {
+    nns::wire::Tensor t;
+    t.type = static_cast<uint32_t>(specs[i].first);
+    std::copy(specs[i].second.begin(), specs[i].second.end(), t.dims.begin());
+    t.data = mems[i].data();
+    t.size = mems[i].size();
+    f.tensors.push_back(t);
+  }
+  std::vector<uint8_t> bytes;
+  nns::wire::encode(Format::kFlexbuf, f, bytes);
+  const std::string in = dir + "/flex.flexbuf", out = dir + "/out.bin";
+  std::ofstream(in, std::ios::binary)
+      .write(reinterpret_cast<const char *>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  auto r = nns::test::run_pipeline("filesrc location=" + in +
+                                   " ! other/flexbuf,framerate=0/1 ! tensor_converter ! "
+                                   "other/tensors,format=flexible ! tensor_decoder "
+                                   "mode=octet_stream ! filesink location=" +
+                                   out);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  EXPECT_EQ(want, nns::test::read_file(out));
+}
+
+// Misaligned single-memory input (a share at byte 1) and multi-memory input: the converter
+// copies to aligned memory for the flatbuffers formats and decodes exactly.
+GstMemory *owned_memory(const uint8_t *p, std::size_t n) {
+  gpointer copy = g_memdup2(p, n);
+  return gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, copy, n, 0, n, copy, g_free);
+}
+
+TEST(WirePipeline, ConverterHandlesMisalignedAndSplitInput) {
+  Sample s;
+  for (Format fmt : kFormats) {
+    SCOPED_TRACE(nns::wire::format_name(fmt));
+    std::vector<uint8_t> bytes;
+    nns::wire::encode(fmt, s.frame, bytes);
+    for (int split = 0; split < 2; ++split) {
+      GstBuffer *in = gst_buffer_new();
+      if (split) {
+        const std::size_t half = bytes.size() / 2 + 1;
+        gst_buffer_append_memory(in, owned_memory(bytes.data(), half));
+        gst_buffer_append_memory(in, owned_memory(bytes.data() + half, bytes.size() - half));
+      } else {
+        std::vector<uint8_t> shifted(bytes.size() + 1);
+        std::memcpy(shifted.data() + 1, bytes.data(), bytes.size());
+        GstMemory *whole = owned_memory(shifted.data(), shifted.size());
+        gst_buffer_append_memory(in, gst_memory_share(whole, 1, static_cast<gssize>(bytes.size())));
+        gst_memory_unref(whole);
+      }
+      HarnessPtr h(gst_harness_new_parse("tensor_converter"));
+      gst_harness_set_src_caps_str(
+          h.get(), (std::string(nns::wire::media_type(fmt)) + ",framerate=(fraction)30/1").c_str());
+      ASSERT_EQ(GST_FLOW_OK, gst_harness_push(h.get(), in)) << "split " << split;
+      GstBuffer *out = gst_harness_try_pull(h.get());
+      ASSERT_NE(nullptr, out);
+      expect_sample_tensors(out, s, caps_of(h->sinkpad));
+      gst_buffer_unref(out);
+    }
   }
 }
 
@@ -188,6 +393,11 @@ TEST(WireDecoder, EntryEncodesAndConverterRoundTrips) {
     in[1].size = 31;
     GstBuffer *bad = gst_buffer_new();
     EXPECT_EQ(GST_FLOW_ERROR, d->decode(&priv, &cfg, in, bad));
+    // ... and the reason is in the DecoderErrorSlot tensor_decoder reads (magic, message).
+    ASSERT_EQ(0, std::memcmp(priv, "NNSDERR", 8));
+    EXPECT_NE(std::string::npos,
+              std::string(static_cast<const char *>(priv) + 8).find("tensor 1: carries 31 bytes"))
+        << static_cast<const char *>(priv) + 8;
     gst_buffer_unref(bad);
     d->exit(&priv);
   }

@@ -103,6 +103,31 @@ void add_module_dirs() {
 
 }  // namespace
 
+namespace {
+
+// The extra PyGILState_Ensure that pin_thread_state() keeps per thread; released when the
+// thread exits (unless the interpreter is finalizing by then).
+struct PinnedThreadState {
+  bool pinned = false;
+  PyGILState_STATE state{};
+  PyThreadState *saved = nullptr;
+  ~PinnedThreadState() {
+    if (!pinned || !runtime_alive()) return;
+    PyEval_RestoreThread(saved);
+    PyGILState_Release(state);
+  }
+};
+thread_local PinnedThreadState t_pinned;
+
+}  // namespace
+
+void pin_thread_state() noexcept {
+  if (t_pinned.pinned || !runtime_alive() || PyGILState_Check()) return;
+  t_pinned.state = PyGILState_Ensure();
+  t_pinned.saved = PyEval_SaveThread();
+  t_pinned.pinned = true;
+}
+
 bool runtime_alive() noexcept {
   if (!Py_IsInitialized()) return false;
 #if PY_VERSION_HEX >= 0x030D0000

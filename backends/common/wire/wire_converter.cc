@@ -8,7 +8,9 @@
 //       tensor_converter ! tensor_sink
 #include <gst/gst.h>
 
+#include <cstdint>
 #include <cstring>
+#include <string>
 
 #include "nnstreamer_plugin_api_converter.h"
 #include "wire.h"
@@ -20,13 +22,6 @@ namespace {
 
 using nns::wire::Format;
 
-void copy_into(GstMemory *m, const uint8_t *src, std::size_t n) {
-  GstMapInfo w;
-  if (gst_memory_map(m, &w, GST_MAP_WRITE)) {
-    std::memcpy(w.data, src, n);
-    gst_memory_unmap(m, &w);
-  }
-}
 constexpr Format kFormat = Format::NNS_WIRE_FORMAT;
 
 void ensure_debug() {
@@ -62,15 +57,51 @@ struct Owner {
   std::shared_ptr<const void> keep;
 };
 
+// Why convert() last returned NULL on this thread; tensor_converter reads it through
+// nns_converter_subplugin_last_error() right after the failing call and puts it in its bus error.
+thread_local std::string last_error;
+
+// The bytes to parse as one readable memory: the input's own memory when it is a single one
+// (zero-copy), else (several memories, or a misaligned one for the flatbuffers formats, whose
+// accessors need 8-byte alignment) an aligned copy.
+GstMemory *source_memory(GstBuffer *in) {
+  if (gst_buffer_n_memory(in) == 1) {
+    GstMemory *m = gst_buffer_peek_memory(in, 0);
+    GstMapInfo map;
+    if (!gst_memory_map(m, &map, GST_MAP_READ)) return nullptr;
+    const bool aligned = reinterpret_cast<std::uintptr_t>(map.data) % 8 == 0;
+    gst_memory_unmap(m, &map);
+    if (aligned || kFormat == Format::kProtobuf) return gst_memory_ref(m);
+  }
+  const gsize size = gst_buffer_get_size(in);
+  GstAllocationParams params;
+  gst_allocation_params_init(&params);
+  params.align = 7;
+  GstMemory *m = gst_allocator_alloc(nullptr, size, &params);
+  GstMapInfo w;
+  if (!m || !gst_memory_map(m, &w, GST_MAP_WRITE)) {
+    if (m) gst_memory_unref(m);
+    return nullptr;
+  }
+  gst_buffer_extract(in, 0, w.data, size);
+  gst_memory_unmap(m, &w);
+  return m;
+}
+
 GstBuffer *convert(GstBuffer *in, GstTensorsConfig *config, void *) {
   ensure_debug();
-  if (!in || !config) return nullptr;
-  const bool single = gst_buffer_n_memory(in) == 1;
-  GstMemory *mem = single ? gst_buffer_peek_memory(in, 0) : nullptr;
+  last_error.clear();
+  if (!in || !config) {
+    last_error = "no input buffer or config";
+    return nullptr;
+  }
+  GstMemory *mem = source_memory(in);
   GstMapInfo map;
-  const bool mapped =
-      single ? gst_memory_map(mem, &map, GST_MAP_READ) : gst_buffer_map(in, &map, GST_MAP_READ);
-  if (!mapped) return nullptr;
+  if (!mem || !gst_memory_map(mem, &map, GST_MAP_READ)) {
+    if (mem) gst_memory_unref(mem);
+    last_error = "cannot map the input buffer";
+    return nullptr;
+  }
   GstBuffer *out = nullptr;
   try {
     nns::wire::Frame f = nns::wire::decode(kFormat, map.data, map.size);
@@ -83,26 +114,21 @@ GstBuffer *convert(GstBuffer *in, GstTensorsConfig *config, void *) {
         m = gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, const_cast<uint8_t *>(t.data), t.size,
                                    0, t.size, o,
                                    [](gpointer p) { delete static_cast<Owner *>(p); });
-      } else if (single) {
+      } else {
         m = gst_memory_share(mem, static_cast<gssize>(t.data - map.data),
                              static_cast<gssize>(t.size));
-      } else {
-        m = gst_allocator_alloc(nullptr, t.size, nullptr);
-        copy_into(m, t.data, t.size);
       }
       gst_buffer_append_memory(out, m);
     }
     gst_buffer_copy_into(out, in, GST_BUFFER_COPY_METADATA, 0, -1);
   } catch (const std::exception &e) {
-    GST_ERROR("tensor_converter::%s: %s", nns::wire::format_name(kFormat), e.what());
-    g_printerr("tensor_converter::%s: %s\n", nns::wire::format_name(kFormat), e.what());
+    last_error = e.what();
+    GST_WARNING("tensor_converter::%s: %s", nns::wire::format_name(kFormat), e.what());
     if (out) gst_buffer_unref(out);
     out = nullptr;
   }
-  if (single)
-    gst_memory_unmap(mem, &map);
-  else
-    gst_buffer_unmap(in, &map);
+  gst_memory_unmap(mem, &map);
+  gst_memory_unref(mem);
   return out;
 }
 
@@ -133,4 +159,9 @@ NNStreamerExternalConverter table = {
 extern "C" __attribute__((visibility("default"))) const NNStreamerExternalConverter *
 nns_converter_subplugin_entry(void) {
   return &table;
+}
+
+extern "C" __attribute__((visibility("default"))) const char *nns_converter_subplugin_last_error(
+    void) {
+  return last_error.c_str();
 }

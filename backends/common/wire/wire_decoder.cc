@@ -9,6 +9,7 @@
 
 #include <cstring>
 
+#include "../../decoder/common/decoder_common.h"
 #include "nnstreamer_plugin_api_decoder.h"
 #include "wire.h"
 
@@ -41,11 +42,13 @@ const GstTensorInfo *info_at(const GstTensorsInfo *info, unsigned i) {
   return info->extra ? &info->extra[i - NNS_TENSOR_MEMORY_MAX] : nullptr;
 }
 
+// Private data: the error slot tensor_decoder reads to say why a frame was refused.
 int init(void **priv) {
-  *priv = nullptr;
+  *priv = new nns::dec::DecoderErrorSlot();
   return TRUE;
 }
 void exit_(void **priv) {
+  delete static_cast<nns::dec::DecoderErrorSlot *>(*priv);
   *priv = nullptr;
 }
 int set_option(void **, int, const char *) {
@@ -60,7 +63,7 @@ GstCaps *get_out_caps(void **, const GstTensorsConfig *config) {
   return caps;
 }
 
-GstFlowReturn decode(void **, const GstTensorsConfig *config, const GstTensorMemory *input,
+GstFlowReturn decode(void **priv, const GstTensorsConfig *config, const GstTensorMemory *input,
                      GstBuffer *outbuf) {
   ensure_debug();
   if (!config || !input || !outbuf) return GST_FLOW_ERROR;
@@ -96,8 +99,8 @@ GstFlowReturn decode(void **, const GstTensorsConfig *config, const GstTensorMem
     gst_buffer_append_memory(outbuf, m);
     return GST_FLOW_OK;
   } catch (const std::exception &e) {
-    GST_ERROR("tensor_decoder::%s: %s", nns::wire::format_name(kFormat), e.what());
-    g_printerr("tensor_decoder::%s: %s\n", nns::wire::format_name(kFormat), e.what());
+    GST_WARNING("tensor_decoder::%s: %s", nns::wire::format_name(kFormat), e.what());
+    if (priv && *priv) static_cast<nns::dec::DecoderErrorSlot *>(*priv)->set("%s", e.what());
     return GST_FLOW_ERROR;
   }
 }

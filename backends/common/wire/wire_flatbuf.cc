@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // Frames <-> nnstreamer.fbs tables (nnstreamer.flatbuf.Tensors), verified before access.
+#include <cstdint>
+#include <string>
+
 #include "nnstreamer_generated.h"
 #include "wire.h"
 
@@ -29,9 +32,25 @@ void encode_flatbuf(const Frame &f, std::vector<uint8_t> &out) {
 }
 
 Frame decode_flatbuf(const uint8_t *data, std::size_t size) {
-  flatbuffers::Verifier v(data, size, 64, 1000000, false);
-  if (!fb::VerifyTensorsBuffer(v))
-    throw WireError("flatbuf: input is not a valid nnstreamer.flatbuf.Tensors buffer");
+  // Alignment is verified (relative to `data`, which must itself be 8-byte aligned): without
+  // it a crafted offset makes the accessors below read misaligned tables (UB; found by
+  // fuzz/wire_flatbuf_fuzz.cc).
+  if (reinterpret_cast<std::uintptr_t>(data) % 8)
+    throw WireError("flatbuf: input is not 8-byte aligned");
+  flatbuffers::Verifier v(data, size, 64, 1000000, true);
+  if (!fb::VerifyTensorsBuffer(v)) {
+    std::string why = "corrupt or truncated";
+    if (size < sizeof(flatbuffers::uoffset_t)) {
+      why = "truncated at byte " + std::to_string(size) + " before the root offset";
+    } else {
+      const auto root = flatbuffers::ReadScalar<flatbuffers::uoffset_t>(data);
+      if (root >= size)
+        why = "truncated at byte " + std::to_string(size) + ": the root table is at byte " +
+              std::to_string(root);
+    }
+    throw WireError("flatbuf: input (" + std::to_string(size) +
+                    " bytes) is not a valid nnstreamer.flatbuf.Tensors buffer: " + why);
+  }
   const fb::Tensors *root = fb::GetTensors(data);
   Frame f;
   f.format = static_cast<uint32_t>(root->format());

@@ -5,6 +5,9 @@
 // The buffer is verified (flexbuffers::VerifyBuffer) and every value's type checked.
 #include <flatbuffers/flexbuffers.h>
 
+#include <cstdint>
+#include <string>
+
 #include "wire.h"
 
 namespace nns::wire {
@@ -44,9 +47,13 @@ bool is_integer(const flexbuffers::Reference &r) {
 }  // namespace
 
 Frame decode_flexbuf(const uint8_t *data, std::size_t size) {
+  // flexbuffers reads scalars in place: the verifier checks alignment relative to `data`.
+  if (reinterpret_cast<std::uintptr_t>(data) % 8)
+    throw WireError("flexbuf: input is not 8-byte aligned");
   std::vector<uint8_t> reuse;
   if (!flexbuffers::VerifyBuffer(data, size, &reuse))
-    throw WireError("flexbuf: input is not a valid flexbuffer");
+    throw WireError("flexbuf: input (" + std::to_string(size) +
+                    " bytes) is not a valid flexbuffer (corrupt or truncated)");
   flexbuffers::Reference root = flexbuffers::GetRoot(data, size);
   if (!root.IsMap()) throw WireError("flexbuf: root is not a map");
   flexbuffers::Map m = root.AsMap();

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // Frames <-> nnstreamer.proto messages (NNStreamer::Tensors).
+#include <string>
+
 #include "nnstreamer.pb.h"
 #include "wire.h"
 
@@ -24,11 +26,64 @@ void encode_protobuf(const Frame &f, std::vector<uint8_t> &out) {
     throw WireError("protobuf: serialisation failed");
 }
 
+namespace {
+
+// Where a message that failed to parse goes wrong, when it is a framing problem (truncated
+// field, bad wire type) of the top level: "" otherwise. Only used on the error path.
+std::string framing_problem(const uint8_t *d, std::size_t n) {
+  std::size_t i = 0;
+  auto varint = [&](uint64_t &v) {
+    v = 0;
+    for (int shift = 0; shift < 64; shift += 7) {
+      if (i >= n) return false;
+      const uint8_t b = d[i++];
+      v |= uint64_t(b & 0x7f) << shift;
+      if (!(b & 0x80)) return true;
+    }
+    return false;
+  };
+  while (i < n) {
+    const std::size_t at = i;
+    uint64_t key, v;
+    if (!varint(key)) return "truncated at byte " + std::to_string(n) + " in a field key";
+    const std::string field =
+        "field " + std::to_string(key >> 3) + " at byte " + std::to_string(at);
+    switch (key & 7) {
+      case 0:
+        if (!varint(v)) return "truncated at byte " + std::to_string(n) + " (" + field + ")";
+        break;
+      case 1:
+      case 5: {
+        const std::size_t w = (key & 7) == 1 ? 8 : 4;
+        if (n - i < w) return "truncated at byte " + std::to_string(n) + " (" + field + ")";
+        i += w;
+        break;
+      }
+      case 2:
+        if (!varint(v)) return "truncated at byte " + std::to_string(n) + " (" + field + ")";
+        if (v > n - i)
+          return "truncated at byte " + std::to_string(n) + ": " + field + " declares " +
+                 std::to_string(v) + " bytes, " + std::to_string(n - i) + " remain";
+        i += static_cast<std::size_t>(v);
+        break;
+      default:
+        return "invalid wire type " + std::to_string(key & 7) + " (" + field + ")";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 Frame decode_protobuf(const uint8_t *data, std::size_t size) {
   if (size > INT32_MAX) throw WireError("protobuf: input larger than 2 GiB");
   auto msg = std::make_shared<NNStreamer::Tensors>();
-  if (!msg->ParseFromArray(data, static_cast<int>(size)))
-    throw WireError("protobuf: input is not a valid NNStreamer.Tensors message");
+  if (!msg->ParseFromArray(data, static_cast<int>(size))) {
+    const std::string why = framing_problem(data, size);
+    throw WireError("protobuf: input (" + std::to_string(size) +
+                    " bytes) is not a valid NNStreamer.Tensors message" +
+                    (why.empty() ? "" : ": " + why));
+  }
   Frame f;
   f.format = static_cast<uint32_t>(msg->format());
   f.rate_n = msg->fr().rate_n();

@@ -3,8 +3,12 @@
 //
 //   gst-launch-1.0 filesrc location=orange.raw ! application/octet-stream !
 //     tensor_converter input-dim=3:224:224:1 input-type=uint8 !
+//     tensor_transform mode=arithmetic option=typecast:float32,per-channel:true@0,
+//       add:-123.675@0,add:-116.280@1,add:-103.530@2,div:58.3950@0,div:57.1200@1,div:57.3750@2 !
+//     tensor_transform mode=transpose option=1:2:0:3 !
 //     tensor_filter framework=onnxruntime model=mobilenet_v2_quant.onnx custom=NumThreads:1 !
 //     tensor_sink
+//   (the option is one word; the model is described in docs/backends/onnxruntime.md)
 //
 // Input/output names, types and shapes come from the model; ONNX shape [1,224,224,3] is
 // NNStreamer dims 3:224:224:1. Free (symbolic) dimensions need input= or invoke-dynamic=true.

@@ -140,12 +140,18 @@ GstCaps *sink_base_caps(GstTensorConverter *self) {
   return gst_caps_merge(caps, ext);
 }
 
-GstCaps *sink_query_caps(GstTensorConverter *self, GstCaps *filter) {
-  GstCaps *caps = sink_base_caps(self);
-  bool custom_mode;
+bool in_custom_mode(GstTensorConverter *self) {
   GST_OBJECT_LOCK(self);
-  custom_mode = !self->priv->settings.mode.empty();
+  bool custom_mode = !self->priv->settings.mode.empty();
   GST_OBJECT_UNLOCK(self);
+  return custom_mode;
+}
+
+GstCaps *sink_query_caps(GstTensorConverter *self, GstCaps *filter) {
+  // mode=custom-code/custom-script: the callback or script decides what it reads (e.g. a
+  // Python script parsing other/flexbuf), so any input is offered.
+  const bool custom_mode = in_custom_mode(self);
+  GstCaps *caps = custom_mode ? gst_caps_new_any() : sink_base_caps(self);
   if (!custom_mode) {
     nns::gst::CapsPtr peer(gst_pad_peer_query_caps(self->srcpad, nullptr));
     if (peer && !gst_caps_is_any(peer.get()) && !gst_caps_is_empty(peer.get()) &&
@@ -187,8 +193,8 @@ gboolean sink_query(GstPad *pad, GstObject *parent, GstQuery *query) {
         // Raw media outside the template (e.g. format=I420) is let through so the CAPS
         // event can post an error naming the field; caps queries still offer the template.
         MediaKind k = nns::gst::media_kind_of(gst_caps_get_structure(caps, 0));
-        ok = gst_caps_can_intersect(base.get(), caps) || k == MediaKind::kVideo ||
-             k == MediaKind::kAudio || k == MediaKind::kText;
+        ok = in_custom_mode(self) || gst_caps_can_intersect(base.get(), caps) ||
+             k == MediaKind::kVideo || k == MediaKind::kAudio || k == MediaKind::kText;
       }
       gst_query_set_accept_caps_result(query, ok);
       return TRUE;

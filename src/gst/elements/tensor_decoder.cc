@@ -5,6 +5,9 @@
  * Turns tensor frames into media (video, text, ...) with a decoder sub-plugin chosen by `mode`
  * (libnnstreamer_decoder_<mode>.so, see docs/elements/tensor_decoder.md) configured by
  * option1..option9, or with an application callback (mode=custom-code option1=<name>).
+ * Static and flexible input: for a flexible stream the tensors are read from each buffer's
+ * headers, the decoder sees them as a static config (headers stripped) and the output caps are
+ * negotiated again whenever they change.
  *
  *   gst-launch-1.0 videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=64,height=48 !
  *     tensor_converter ! tensor_decoder mode=direct_video ! videoconvert ! fakesink
@@ -18,9 +21,10 @@
 #include <mutex>
 #include <string>
 
-#include "gst/c_tensor_info.h"
+#include "core/c_tensor_info.h"
 #include "gst/config_file.h"
 #include "gst/decoder_registry.h"
+#include "core/meta_header.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"
@@ -52,8 +56,22 @@ struct DecoderPriv {
   void *pdata = nullptr;
   bool configured = false;
   std::optional<nns::gst::CustomDecoder> custom;
-  nns::gst::CTensorsConfig in_config;
-  nns::TensorsConfig in_cfg;
+  nns::CTensorsConfig in_config;
+  nns::TensorsConfig in_cfg;  // static config the decoder sees
+  // Flexible input: upstream caps are format=flexible; flex_cfg is the static config the
+  // headers of the last buffer described (flex_known once a buffer came).
+  bool flexible = false;
+  int flex_rate_n = 0, flex_rate_d = 1;
+  bool flex_known = false;
+  nns::TensorsConfig flex_cfg;
+  // Sticky events (segment, tags) that came after a flexible CAPS event: forwarded once caps are
+  // negotiated, so downstream sees caps before them.
+  std::vector<GstEvent *> held;
+
+  void drop_held() {
+    for (GstEvent *e : held) gst_event_unref(e);
+    held.clear();
+  }
 
   void release() {
     if (def && pdata) def->exit(&pdata);
@@ -230,10 +248,16 @@ static GstCaps *out_caps_for(DecoderPriv *p, const GstStructure *s) {
   } catch (const nns::Error &) {
     return gst_caps_new_any();  // not a complete description yet
   }
-  // Flexible and sparse input are not decoded yet: such a structure maps to nothing (a caps
-  // query may list them beside static caps; that is no error).
-  if (cfg.info.format != nns::TensorFormat::kStatic) return gst_caps_new_empty();
-  nns::gst::CTensorsConfig c(cfg);
+  // Flexible input: the tensors are known from the last buffer's headers (before the first
+  // buffer anything may come out). Sparse input is not decoded (tensor_sparse_dec first): such a
+  // structure maps to nothing (a caps query may list it beside others; that is no error).
+  if (cfg.info.format == nns::TensorFormat::kFlexible) {
+    if (!p->flex_known) return gst_caps_new_any();
+    cfg = p->flex_cfg;
+  } else if (cfg.info.format != nns::TensorFormat::kStatic) {
+    return gst_caps_new_empty();
+  }
+  nns::CTensorsConfig c(cfg);
   GstCaps *caps = p->def->getOutCaps(&p->pdata, c.get());
   bool fixed = gst_structure_foreach(
       s, [](GQuark, const GValue *v, gpointer) -> gboolean { return gst_value_is_fixed(v); },
@@ -255,11 +279,12 @@ static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
   GstCaps *out = nns::gst::guard(self, static_cast<GstCaps *>(nullptr), [&]() -> GstCaps * {
     GstCaps *result;
     if (direction == GST_PAD_SRC) {
-      // Flexible and sparse input are not decoded yet, so only static caps are offered
-      // upstream (the template keeps NNStreamer's formats so linking behaves the same).
+      // Static and flexible input are decoded; sparse is not offered (the template keeps
+      // NNStreamer's formats so linking behaves the same).
       result = gst_caps_from_string(
           "other/tensor, framerate = (fraction) [ 0, max ]; "
-          "other/tensors, format = (string) static, framerate = (fraction) [ 0, max ]");
+          "other/tensors, format = (string) static, framerate = (fraction) [ 0, max ]; "
+          "other/tensors, format = (string) flexible, framerate = (fraction) [ 0, max ]");
     } else {
       auto *p = self->priv;
       std::lock_guard<std::mutex> l(p->lock);
@@ -320,8 +345,16 @@ static gboolean gst_tensor_decoder_set_caps(GstBaseTransform *trans, GstCaps *in
     auto *p = self->priv;
     std::lock_guard<std::mutex> l(p->lock);
     configure(p);
-    p->in_cfg = nns::gst::config_from_caps(incaps);
-    nns::gst::to_c(p->in_cfg, p->in_config.get());
+    nns::TensorsConfig cfg = nns::gst::config_from_caps(incaps);
+    if (cfg.info.format == nns::TensorFormat::kFlexible) {
+      // Renegotiation (RECONFIGURE) with the flexible sink caps: use the last headers.
+      if (!p->flex_known)
+        throw nns::Error(nns::ErrorKind::kNegotiation,
+                         "flexible input: no buffer has described the tensors yet");
+      cfg = p->flex_cfg;
+    }
+    p->in_cfg = cfg;
+    nns::to_c(p->in_cfg, p->in_config.get());
     return TRUE;
   });
 }
@@ -371,10 +404,16 @@ static GstFlowReturn gst_tensor_decoder_transform(GstBaseTransform *trans, GstBu
     std::lock_guard<std::mutex> l(p->lock);
     configure(p);
     const auto &info = p->in_cfg.info;
-    std::size_t n = nns::gst::buffer_tensor_count(inbuf);
-    if (info.format != nns::TensorFormat::kStatic)
-      throw nns::Error(nns::ErrorKind::kStream, "flexible or sparse input is not supported yet");
-    nns::gst::check_static_buffer(inbuf, info);
+    // Flexible buffers: one memory per tensor, its 128-byte header already checked against
+    // in_cfg (submit_input_buffer); the decoder gets the payload only.
+    const bool flex = p->flexible;
+    const std::size_t skip = flex ? nns::kMetaHeaderSize : 0;
+    std::size_t n = flex ? gst_buffer_n_memory(inbuf) : nns::gst::buffer_tensor_count(inbuf);
+    if (!flex) nns::gst::check_static_buffer(inbuf, info);
+    if (flex && n != info.tensors.size())
+      throw nns::Error(nns::ErrorKind::kStream,
+                       "flexible input buffer holds " + std::to_string(n) + " tensors, " +
+                           std::to_string(info.tensors.size()) + " negotiated");
     if (n == 0 || n > NNS_TENSOR_SIZE_LIMIT)
       throw nns::Error(nns::ErrorKind::kStream,
                        "input buffer holds " + std::to_string(n) + " tensors");
@@ -389,15 +428,22 @@ static GstFlowReturn gst_tensor_decoder_transform(GstBaseTransform *trans, GstBu
       }
     };
     for (; mapped < n; ++mapped) {
-      mems[mapped] = nns::gst::buffer_get_tensor(inbuf, mapped);
+      mems[mapped] = flex ? gst_buffer_get_memory(inbuf, static_cast<guint>(mapped))
+                          : nns::gst::buffer_get_tensor(inbuf, mapped);
       if (!gst_memory_map(mems[mapped], &maps[mapped], GST_MAP_READ)) {
         gst_memory_unref(mems[mapped]);
         unmap();
         throw nns::Error(nns::ErrorKind::kStream,
                          "cannot map input tensor " + std::to_string(mapped));
       }
-      tm[mapped].data = maps[mapped].data;
-      tm[mapped].size = maps[mapped].size;
+      if (maps[mapped].size < skip) {
+        ++mapped;
+        unmap();
+        throw nns::Error(nns::ErrorKind::kStream, "input tensor " + std::to_string(mapped - 1) +
+                                                      ": flexible memory shorter than its header");
+      }
+      tm[mapped].data = maps[mapped].data + skip;
+      tm[mapped].size = maps[mapped].size - skip;
     }
     GstFlowReturn ret = GST_FLOW_OK;
     std::string what;
@@ -426,14 +472,144 @@ static gboolean gst_tensor_decoder_start(GstBaseTransform *trans) {
   auto *self = GST_TENSOR_DECODER(trans);
   return nns::gst::guard(self, FALSE, [&] {
     std::lock_guard<std::mutex> l(self->priv->lock);
+    self->priv->flexible = false;
+    self->priv->flex_known = false;
+    self->priv->drop_held();
     configure(self->priv);
     return TRUE;
   });
 }
 
+// Static config of a flexible buffer, from its headers; throws naming the tensor and field.
+static nns::TensorsConfig config_from_headers(GstBuffer *buf, int rate_n, int rate_d) {
+  const guint n = gst_buffer_n_memory(buf);
+  if (n == 0 || n > NNS_TENSOR_SIZE_LIMIT)
+    throw nns::Error(nns::ErrorKind::kStream,
+                     "flexible input buffer holds " + std::to_string(n) + " tensors");
+  nns::TensorsConfig cfg;
+  cfg.rate_n = rate_n;
+  cfg.rate_d = rate_d;
+  for (guint i = 0; i < n; ++i) {
+    GstMemory *mem = gst_buffer_peek_memory(buf, i);
+    const std::string who = "input tensor " + std::to_string(i) + ": ";
+    nns::MetaHeader h;
+    try {
+      h = nns::gst::memory_header(mem);
+    } catch (const nns::Error &e) {
+      throw nns::Error(nns::ErrorKind::kStream, who + e.what());
+    }
+    if (h.format == nns::TensorFormat::kSparse)
+      throw nns::Error(nns::ErrorKind::kStream,
+                       who + "header format is sparse; decode it with tensor_sparse_dec first");
+    if (nns::rank_of(h.dims) == 0)
+      throw nns::Error(nns::ErrorKind::kStream, who + "flexible tensor header has no dimension");
+    const gsize payload = gst_memory_get_sizes(mem, nullptr, nullptr) - nns::kMetaHeaderSize;
+    if (payload != h.payload_size())
+      throw nns::Error(nns::ErrorKind::kStream, who + "carries " + std::to_string(payload) +
+                                                    " bytes after its header, the header (" +
+                                                    h.info().to_string() + ") says " +
+                                                    std::to_string(h.payload_size()));
+    cfg.info.tensors.push_back(h.info());
+  }
+  return cfg;
+}
+
+static void forward_held_events(GstBaseTransform *trans) {
+  auto *p = GST_TENSOR_DECODER(trans)->priv;
+  std::vector<GstEvent *> held;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    held.swap(p->held);
+  }
+  for (GstEvent *e : held)
+    GST_BASE_TRANSFORM_CLASS(gst_tensor_decoder_parent_class)->sink_event(trans, e);
+}
+
+// A flexible CAPS event is kept (not negotiated): the tensors are only known from the data.
+static gboolean gst_tensor_decoder_sink_event(GstBaseTransform *trans, GstEvent *event) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  auto *p = self->priv;
+  const GstEventType type = GST_EVENT_TYPE(event);
+  if (type == GST_EVENT_FLUSH_STOP) {
+    std::lock_guard<std::mutex> l(p->lock);
+    p->drop_held();
+  }
+  if (type == GST_EVENT_EOS) forward_held_events(trans);
+  if (GST_EVENT_IS_STICKY(event) && type != GST_EVENT_CAPS && type != GST_EVENT_STREAM_START &&
+      type != GST_EVENT_EOS) {
+    std::lock_guard<std::mutex> l(p->lock);
+    if (p->flexible && !p->flex_known) {
+      p->held.push_back(event);
+      return TRUE;
+    }
+  }
+  if (type == GST_EVENT_CAPS) {
+    GstCaps *caps = nullptr;
+    gst_event_parse_caps(event, &caps);
+    std::optional<nns::TensorsConfig> cfg;
+    try {
+      cfg = nns::gst::config_from_caps(caps);
+    } catch (const nns::Error &) {
+      // the base class negotiates and reports it
+    }
+    std::lock_guard<std::mutex> l(p->lock);
+    p->flexible = cfg && cfg->info.format == nns::TensorFormat::kFlexible;
+    p->flex_known = false;
+    if (p->flexible) {
+      p->flex_rate_n = cfg->rate_n;
+      p->flex_rate_d = cfg->rate_d;
+      gst_event_unref(event);
+      return TRUE;
+    }
+  }
+  return GST_BASE_TRANSFORM_CLASS(gst_tensor_decoder_parent_class)->sink_event(trans, event);
+}
+
+// Flexible input: reads the headers of each buffer and, when the tensors differ from the last
+// ones (or for the first buffer), negotiates static caps for them through the base class, which
+// asks the decoder for new output caps and sends them downstream.
+static GstFlowReturn gst_tensor_decoder_submit_input_buffer(GstBaseTransform *trans,
+                                                            gboolean is_discont, GstBuffer *inbuf) {
+  auto *self = GST_TENSOR_DECODER(trans);
+  auto *p = self->priv;
+  GstFlowReturn ret = nns::gst::guard(self, GST_FLOW_ERROR, [&] {
+    nns::gst::CapsPtr caps;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      if (!p->flexible) return GST_FLOW_OK;
+      nns::TensorsConfig cfg = config_from_headers(inbuf, p->flex_rate_n, p->flex_rate_d);
+      if (p->flex_known && cfg.info.tensors.size() == p->flex_cfg.info.tensors.size()) {
+        bool same = true;
+        for (std::size_t i = 0; i < cfg.info.tensors.size() && same; ++i)
+          same = cfg.info.tensors[i].same_as(p->flex_cfg.info.tensors[i]);
+        if (same) return GST_FLOW_OK;
+      }
+      p->flex_cfg = cfg;
+      p->flex_known = true;
+      caps.reset(gst_caps_new_full(nns::gst::structure_from_config(cfg), nullptr));
+    }
+    GST_DEBUG_OBJECT(self, "flexible input now %" GST_PTR_FORMAT, caps.get());
+    if (!GST_BASE_TRANSFORM_CLASS(gst_tensor_decoder_parent_class)
+             ->sink_event(trans, gst_event_new_caps(caps.get()))) {
+      std::string c = nns::gst::caps_to_string(caps.get());
+      throw nns::Error(nns::ErrorKind::kNegotiation,
+                       "mode '" + p->mode + "' cannot produce output for flexible input " + c);
+    }
+    forward_held_events(trans);
+    return GST_FLOW_OK;
+  });
+  if (ret != GST_FLOW_OK) {
+    gst_buffer_unref(inbuf);
+    return ret;
+  }
+  return GST_BASE_TRANSFORM_CLASS(gst_tensor_decoder_parent_class)
+      ->submit_input_buffer(trans, is_discont, inbuf);
+}
+
 static void gst_tensor_decoder_finalize(GObject *object) {
   auto *self = GST_TENSOR_DECODER(object);
   self->priv->release();
+  self->priv->drop_held();
   delete self->priv;
   G_OBJECT_CLASS(gst_tensor_decoder_parent_class)->finalize(object);
 }
@@ -492,6 +668,8 @@ static void gst_tensor_decoder_class_init(GstTensorDecoderClass *klass) {
   trans_class->passthrough_on_same_caps = FALSE;
   trans_class->transform_ip_on_passthrough = FALSE;
   trans_class->start = gst_tensor_decoder_start;
+  trans_class->sink_event = gst_tensor_decoder_sink_event;
+  trans_class->submit_input_buffer = gst_tensor_decoder_submit_input_buffer;
   trans_class->transform_caps = gst_tensor_decoder_transform_caps;
   trans_class->fixate_caps = gst_tensor_decoder_fixate_caps;
   trans_class->set_caps = gst_tensor_decoder_set_caps;

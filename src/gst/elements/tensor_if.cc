@@ -22,8 +22,8 @@
 #include <optional>
 #include <string>
 
+#include "core/c_tensor_info.h"
 #include "core/tensor_if_cond.h"
-#include "gst/c_tensor_info.h"
 #include "gst/element_glue.h"
 #include "gst/flow_util.h"
 #include "gst/tensor_buffer.h"
@@ -68,7 +68,7 @@ struct State {
   std::optional<nns::tif::Condition> cond;
   std::optional<nns::gst::IfCustom> custom;
   std::string custom_name;
-  std::unique_ptr<nns::gst::CTensorsConfig> c_info;  // for custom callbacks
+  std::unique_ptr<nns::CTensorsConfig> c_info;  // for custom callbacks
   Branch br[2];
   bool silent = true;
 };
@@ -184,7 +184,7 @@ static std::unique_ptr<State> make_state(GstTensorIf *self, const nns::TensorsCo
       nns::fail(nns::ErrorKind::kNotFound,
                 "compared-value-option: no custom condition is registered as '" + st.custom_name +
                     "' (nnstreamer_if_custom_register)");
-    st.c_info = std::make_unique<nns::gst::CTensorsConfig>(cfg);
+    st.c_info = std::make_unique<nns::CTensorsConfig>(cfg);
   } else {
     st.cond.emplace(s.cv, s.cv_option, s.op, nns::tif::parse_supplied_value(s.sv), cfg.info);
   }

@@ -9,6 +9,8 @@
  * carrying 0.999 x the output frame interval as its diff and the frame's running time as its
  * timestamp - upstream's values - so an upstream tensor_filter skips the frames that would be
  * dropped here. Read-only counters: in, out, duplicate, drop. Duplicates carry the GAP flag.
+ * The sink pad accepts any rate and its caps query leaves the framerate open, so upstream keeps
+ * its own rate.
  *
  *   gst-launch-1.0 videotestsrc ! video/x-raw,framerate=30/1 ! tensor_converter !
  *     tensor_rate framerate=10/1 throttle=true ! tensor_sink
@@ -191,6 +193,49 @@ static GstCaps *tensor_rate_transform_caps(GstBaseTransform *trans, GstPadDirect
     result = both;
   }
   return result;
+}
+
+// CAPS query on the sink pad while `framerate` is set. GstBaseTransform's default answer puts
+// downstream's own caps (at the target rate) first to favour passthrough, which would make
+// upstream fixate on the target rate; tensor_rate converts any input rate, so the answer keeps
+// the querier's (filter's) order and leaves the framerate open.
+static bool answer_sink_caps_query(GstBaseTransform *trans, GstQuery *query) {
+  GstCaps *filter = nullptr;
+  gst_query_parse_caps(query, &filter);
+  GstPad *srcpad = GST_BASE_TRANSFORM_SRC_PAD(trans);
+  GstPad *sinkpad = GST_BASE_TRANSFORM_SINK_PAD(trans);
+  GstCaps *peer = gst_pad_peer_query_caps(srcpad, nullptr);
+  GstCaps *src_templ = gst_pad_get_pad_template_caps(srcpad);
+  GstCaps *down = gst_caps_intersect_full(peer, src_templ, GST_CAPS_INTERSECT_FIRST);
+  gst_caps_unref(peer);
+  gst_caps_unref(src_templ);
+  GstCaps *any_rate = tensor_rate_transform_caps(trans, GST_PAD_SRC, down, nullptr);
+  gst_caps_unref(down);
+  GstCaps *sink_templ = gst_pad_get_pad_template_caps(sinkpad);
+  GstCaps *result = gst_caps_intersect_full(any_rate, sink_templ, GST_CAPS_INTERSECT_FIRST);
+  gst_caps_unref(any_rate);
+  gst_caps_unref(sink_templ);
+  if (filter) {
+    GstCaps *both = gst_caps_intersect_full(filter, result, GST_CAPS_INTERSECT_FIRST);
+    gst_caps_unref(result);
+    result = both;
+  }
+  gst_query_set_caps_result(query, result);
+  gst_caps_unref(result);
+  return true;
+}
+
+static gboolean tensor_rate_query(GstBaseTransform *trans, GstPadDirection dir, GstQuery *query) {
+  if (GST_QUERY_TYPE(query) == GST_QUERY_CAPS && dir == GST_PAD_SINK) {
+    auto *p = GST_TENSOR_RATE(trans)->priv;
+    bool rate_set;
+    {
+      std::lock_guard<std::mutex> l(p->settings_lock);
+      rate_set = p->rate_n >= 0 && p->rate_d > 0;
+    }
+    if (rate_set) return answer_sink_caps_query(trans, query);
+  }
+  return GST_BASE_TRANSFORM_CLASS(gst_tensor_rate_parent_class)->query(trans, dir, query);
 }
 
 static GstCaps *tensor_rate_fixate_caps(GstBaseTransform *, GstPadDirection, GstCaps *caps,
@@ -428,6 +473,7 @@ static void gst_tensor_rate_class_init(GstTensorRateClass *klass) {
   trans_class->transform_ip = tensor_rate_transform_ip;
   trans_class->transform_caps = tensor_rate_transform_caps;
   trans_class->fixate_caps = tensor_rate_fixate_caps;
+  trans_class->query = tensor_rate_query;
   trans_class->set_caps = tensor_rate_set_caps;
   trans_class->sink_event = tensor_rate_sink_event;
   trans_class->start = tensor_rate_start;

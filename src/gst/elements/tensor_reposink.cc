@@ -37,10 +37,8 @@ namespace {
 
 struct RepoSinkPriv {
   std::atomic<guint> signal_rate{0};
-  std::atomic<guint> slot{0};
+  nns::gst::RepoSlot slot{false};
   std::atomic<bool> silent{true};
-  std::atomic<bool> flushing{false};
-  std::atomic<bool> slot_changed{false};
   GstCaps *caps = nullptr;  // streaming thread
   gint64 last_push_us = -1;
 };
@@ -58,13 +56,8 @@ G_DEFINE_TYPE(GstTensorRepoSink, gst_tensor_reposink, GST_TYPE_BASE_SINK)
 GST_ELEMENT_REGISTER_DEFINE(tensor_reposink, "tensor_reposink", GST_RANK_NONE,
                             GST_TYPE_TENSOR_REPOSINK)
 
-#define REPO_CAPS                                                             \
-  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
-  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
-  "framerate = (fraction) [ 0, max ]"
-
 static GstStaticPadTemplate sink_template =
-    GST_STATIC_PAD_TEMPLATE("sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(REPO_CAPS));
+    GST_STATIC_PAD_TEMPLATE("sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_REPO_CAPS));
 
 static void gst_tensor_reposink_set_property(GObject *object, guint id, const GValue *value,
                                              GParamSpec *pspec) {
@@ -73,15 +66,9 @@ static void gst_tensor_reposink_set_property(GObject *object, guint id, const GV
     case PROP_SIGNAL_RATE:
       p->signal_rate = g_value_get_uint(value);
       break;
-    case PROP_SLOT: {
-      guint old = p->slot.exchange(g_value_get_uint(value));
-      if (old != p->slot) {
-        // A render waiting on the old slot re-reads the index.
-        p->slot_changed = true;
-        nns::gst::TensorRepo::instance().wake(old);
-      }
+    case PROP_SLOT:
+      p->slot.set_property(g_value_get_uint(value));
       break;
-    }
     case PROP_SILENT:
       p->silent = g_value_get_boolean(value);
       break;
@@ -98,7 +85,7 @@ static void gst_tensor_reposink_get_property(GObject *object, guint id, GValue *
       g_value_set_uint(value, p->signal_rate);
       break;
     case PROP_SLOT:
-      g_value_set_uint(value, p->slot);
+      g_value_set_uint(value, p->slot.property());
       break;
     case PROP_SILENT:
       g_value_set_boolean(value, p->silent);
@@ -110,9 +97,9 @@ static void gst_tensor_reposink_get_property(GObject *object, guint id, GValue *
 
 static gboolean reposink_start(GstBaseSink *sink) {
   auto *p = GST_TENSOR_REPOSINK(sink)->priv;
-  p->flushing = false;
+  p->slot.unlock_stop();
   p->last_push_us = -1;
-  nns::gst::TensorRepo::instance().reset(p->slot);
+  nns::gst::TensorRepo::instance().reset(p->slot.slot());
   return TRUE;
 }
 
@@ -123,22 +110,21 @@ static gboolean reposink_stop(GstBaseSink *sink) {
 }
 
 static gboolean reposink_unlock(GstBaseSink *sink) {
-  auto *p = GST_TENSOR_REPOSINK(sink)->priv;
-  p->flushing = true;
-  nns::gst::TensorRepo::instance().wake(p->slot);
+  GST_TENSOR_REPOSINK(sink)->priv->slot.unlock();
   return TRUE;
 }
 
 static gboolean reposink_unlock_stop(GstBaseSink *sink) {
-  GST_TENSOR_REPOSINK(sink)->priv->flushing = false;
+  GST_TENSOR_REPOSINK(sink)->priv->slot.unlock_stop();
   return TRUE;
 }
 
 static gboolean reposink_event(GstBaseSink *sink, GstEvent *event) {
   auto *p = GST_TENSOR_REPOSINK(sink)->priv;
-  if (GST_EVENT_TYPE(event) == GST_EVENT_EOS) nns::gst::TensorRepo::instance().set_eos(p->slot);
+  if (GST_EVENT_TYPE(event) == GST_EVENT_EOS)
+    nns::gst::TensorRepo::instance().set_eos(p->slot.slot());
   if (GST_EVENT_TYPE(event) == GST_EVENT_FLUSH_STOP)
-    nns::gst::TensorRepo::instance().reset(p->slot);
+    nns::gst::TensorRepo::instance().reset(p->slot.slot());
   return GST_BASE_SINK_CLASS(gst_tensor_reposink_parent_class)->event(sink, event);
 }
 
@@ -164,20 +150,18 @@ static GstFlowReturn reposink_render(GstBaseSink *sink, GstBuffer *buf) {
     p->last_push_us = now;
   }
   auto &repo = nns::gst::TensorRepo::instance();
-  for (;;) {
-    p->slot_changed = false;
-    guint slot = p->slot;
-    auto st = repo.push(slot, buf, p->caps, [p] { return p->flushing || p->slot_changed; });
-    if (st == nns::gst::TensorRepo::Status::kOk) {
-      if (!p->silent)
-        GST_INFO_OBJECT(self, "slot %u <- buffer pts %" GST_TIME_FORMAT, slot,
-                        GST_TIME_ARGS(GST_BUFFER_PTS(buf)));
-      return GST_FLOW_OK;
-    }
-    if (st == nns::gst::TensorRepo::Status::kEos) return GST_FLOW_EOS;
-    if (p->flushing) return GST_FLOW_FLUSHING;
-    // slot-index changed while waiting: hand the buffer to the new slot
-  }
+  guint slot = 0;
+  auto st = p->slot.wait(
+      [&](uint32_t s, const std::function<bool()> &cancelled) {
+        return repo.push(s, buf, p->caps, cancelled);
+      },
+      &slot);
+  if (st == nns::gst::TensorRepo::Status::kEos) return GST_FLOW_EOS;
+  if (st == nns::gst::TensorRepo::Status::kCancelled) return GST_FLOW_FLUSHING;
+  if (!p->silent)
+    GST_INFO_OBJECT(self, "slot %u <- buffer pts %" GST_TIME_FORMAT, slot,
+                    GST_TIME_ARGS(GST_BUFFER_PTS(buf)));
+  return GST_FLOW_OK;
 }
 
 static void gst_tensor_reposink_finalize(GObject *object) {

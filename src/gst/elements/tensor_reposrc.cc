@@ -36,15 +36,11 @@ G_END_DECLS
 
 namespace {
 
-constexpr guint kUnsetSlot = G_MAXUINT;
-
 struct RepoSrcPriv {
-  std::mutex lock;          // guards caps
-  GstCaps *caps = nullptr;  // the `caps` property
-  std::atomic<guint> slot{kUnsetSlot};
+  std::mutex lock;                // guards caps
+  GstCaps *caps = nullptr;        // the `caps` property
+  nns::gst::RepoSlot slot{true};  // unset reads as slot 0
   std::atomic<bool> silent{true};
-  std::atomic<bool> flushing{false};
-  std::atomic<bool> slot_changed{false};
   // streaming thread
   bool started = false;  // the zero frame was sent
   nns::TensorsConfig config;
@@ -52,11 +48,6 @@ struct RepoSrcPriv {
 };
 
 enum { PROP_0, PROP_CAPS, PROP_SLOT, PROP_SILENT };
-
-guint effective_slot(const RepoSrcPriv *p) {
-  guint s = p->slot;
-  return s == kUnsetSlot ? 0 : s;
-}
 
 }  // namespace
 
@@ -69,13 +60,8 @@ G_DEFINE_TYPE(GstTensorRepoSrc, gst_tensor_reposrc, GST_TYPE_PUSH_SRC)
 GST_ELEMENT_REGISTER_DEFINE(tensor_reposrc, "tensor_reposrc", GST_RANK_NONE,
                             GST_TYPE_TENSOR_REPOSRC)
 
-#define REPO_CAPS                                                             \
-  "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
-  "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
-  "framerate = (fraction) [ 0, max ]"
-
 static GstStaticPadTemplate src_template =
-    GST_STATIC_PAD_TEMPLATE("src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS(REPO_CAPS));
+    GST_STATIC_PAD_TEMPLATE("src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_REPO_CAPS));
 
 static void gst_tensor_reposrc_set_property(GObject *object, guint id, const GValue *value,
                                             GParamSpec *pspec) {
@@ -89,15 +75,9 @@ static void gst_tensor_reposrc_set_property(GObject *object, guint id, const GVa
       if (copy) gst_caps_unref(copy);
       break;
     }
-    case PROP_SLOT: {
-      guint old = effective_slot(p);
-      p->slot = g_value_get_uint(value);
-      if (old != effective_slot(p)) {
-        p->slot_changed = true;
-        nns::gst::TensorRepo::instance().wake(old);
-      }
+    case PROP_SLOT:
+      p->slot.set_property(g_value_get_uint(value));
       break;
-    }
     case PROP_SILENT:
       p->silent = g_value_get_boolean(value);
       break;
@@ -116,7 +96,7 @@ static void gst_tensor_reposrc_get_property(GObject *object, guint id, GValue *v
       break;
     }
     case PROP_SLOT:
-      g_value_set_uint(value, p->slot);
+      g_value_set_uint(value, p->slot.property());
       break;
     case PROP_SILENT:
       g_value_set_boolean(value, p->silent);
@@ -155,7 +135,7 @@ static gboolean reposrc_start(GstBaseSrc *src) {
                     " must give format=static with the dimensions and types of every tensor");
     p->config = cfg;
     p->started = false;
-    p->flushing = false;
+    p->slot.unlock_stop();
     gst_caps_replace(&p->checked, nullptr);
     return TRUE;
   });
@@ -165,19 +145,17 @@ static gboolean reposrc_stop(GstBaseSrc *src) {
   auto *p = GST_TENSOR_REPOSRC(src)->priv;
   gst_caps_replace(&p->checked, nullptr);
   // Nobody reads the slot any more: drop what the writer left (the next run starts clean).
-  nns::gst::TensorRepo::instance().reset(effective_slot(p));
+  nns::gst::TensorRepo::instance().reset(p->slot.slot());
   return TRUE;
 }
 
 static gboolean reposrc_unlock(GstBaseSrc *src) {
-  auto *p = GST_TENSOR_REPOSRC(src)->priv;
-  p->flushing = true;
-  nns::gst::TensorRepo::instance().wake(effective_slot(p));
+  GST_TENSOR_REPOSRC(src)->priv->slot.unlock();
   return TRUE;
 }
 
 static gboolean reposrc_unlock_stop(GstBaseSrc *src) {
-  GST_TENSOR_REPOSRC(src)->priv->flushing = false;
+  GST_TENSOR_REPOSRC(src)->priv->slot.unlock_stop();
   return TRUE;
 }
 
@@ -229,31 +207,29 @@ static GstFlowReturn reposrc_create(GstPushSrc *src, GstBuffer **out) {
       return GST_FLOW_OK;
     }
     auto &repo = nns::gst::TensorRepo::instance();
-    for (;;) {
-      p->slot_changed = false;
-      guint slot = effective_slot(p);
-      GstBuffer *buf = nullptr;
-      GstCaps *caps = nullptr;
-      auto st = repo.pop(slot, &buf, &caps, [p] { return p->flushing || p->slot_changed; });
-      if (st == nns::gst::TensorRepo::Status::kEos) return GST_FLOW_EOS;
-      if (st == nns::gst::TensorRepo::Status::kCancelled) {
-        if (p->flushing) return GST_FLOW_FLUSHING;
-        continue;  // slot-index changed: wait on the new slot
-      }
-      nns::gst::BufferPtr b(buf);
-      nns::gst::CapsPtr c(caps);
-      try {
-        check_caps(self, slot, caps);
-      } catch (...) {
-        repo.set_eos(slot);  // the writer must not wait for a reader that stopped
-        throw;
-      }
-      if (!p->silent)
-        GST_INFO_OBJECT(self, "slot %u -> buffer pts %" GST_TIME_FORMAT, slot,
-                        GST_TIME_ARGS(GST_BUFFER_PTS(buf)));
-      *out = b.release();
-      return GST_FLOW_OK;
+    guint slot = 0;
+    GstBuffer *buf = nullptr;
+    GstCaps *caps = nullptr;
+    auto st = p->slot.wait(
+        [&](uint32_t s, const std::function<bool()> &cancelled) {
+          return repo.pop(s, &buf, &caps, cancelled);
+        },
+        &slot);
+    if (st == nns::gst::TensorRepo::Status::kEos) return GST_FLOW_EOS;
+    if (st == nns::gst::TensorRepo::Status::kCancelled) return GST_FLOW_FLUSHING;
+    nns::gst::BufferPtr b(buf);
+    nns::gst::CapsPtr c(caps);
+    try {
+      check_caps(self, slot, caps);
+    } catch (...) {
+      repo.set_eos(slot);  // the writer must not wait for a reader that stopped
+      throw;
     }
+    if (!p->silent)
+      GST_INFO_OBJECT(self, "slot %u -> buffer pts %" GST_TIME_FORMAT, slot,
+                      GST_TIME_ARGS(GST_BUFFER_PTS(buf)));
+    *out = b.release();
+    return GST_FLOW_OK;
   });
 }
 

@@ -15,6 +15,7 @@
 #include "core/sparse.h"
 #include "gst/element_glue.h"
 #include "gst/flow_util.h"
+#include "gst/sparse_glue.h"
 #include "gst/tensor_buffer.h"
 #include "gst/tensor_caps.h"
 
@@ -32,8 +33,6 @@ struct EncPriv {
   std::atomic<bool> silent{true};
   std::optional<nns::TensorsConfig> in;  // streaming thread only
 };
-
-enum { PROP_0, PROP_SILENT };
 
 }  // namespace
 
@@ -56,76 +55,63 @@ static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS,
     GST_STATIC_CAPS("other/tensors, format = (string) sparse, framerate = (fraction) [ 0, max ]"));
 
+static void on_caps(GstTensorSparseEnc *self, GstCaps *caps) {
+  auto cfg = nns::gst::config_from_caps(caps);
+  if (!cfg.info.valid())
+    nns::fail(nns::ErrorKind::kNegotiation,
+              "sink caps need the dimensions and types of every tensor, got " +
+                  nns::gst::caps_to_string(caps));
+  if (cfg.info.size() > nns::kMemoryMax)
+    nns::fail(
+        nns::ErrorKind::kNegotiation,
+        "sparse frames carry at most 16 tensors, the input has " + std::to_string(cfg.info.size()));
+  nns::TensorsConfig out;
+  out.info.format = nns::TensorFormat::kSparse;
+  out.rate_n = cfg.rate_n;
+  out.rate_d = cfg.rate_d;
+  nns::gst::set_src_caps(self->srcpad, out, "src");
+  self->priv->in = cfg;
+}
+
+static void encode(GstTensorSparseEnc *self, GstBuffer *buf, GstBuffer *out) {
+  auto &cfg = self->priv->in;
+  if (!cfg) nns::fail(nns::ErrorKind::kNegotiation, "buffer before caps");
+  nns::gst::check_static_buffer(buf, cfg->info);
+  nns::gst::TensorMaps maps(buf, cfg->info.size());
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    const auto &t = cfg->info[i];
+    std::size_t nnz = nns::sparse_count_nonzero(t, maps.data(i));
+    nns::gst::sparse::append_written(out, nns::sparse_encoded_size(t.type, nnz), [&](uint8_t *dst) {
+      nns::sparse_encode(t, maps.data(i), dst);
+    });
+  }
+  if (!self->priv->silent)
+    GST_INFO_OBJECT(self, "encoded %zu tensor(s), %zu -> %zu bytes", maps.size(),
+                    gst_buffer_get_size(buf), gst_buffer_get_size(out));
+}
+
 static gboolean sparse_enc_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
   auto *self = GST_TENSOR_SPARSE_ENC(parent);
-  if (GST_EVENT_TYPE(event) != GST_EVENT_CAPS) return gst_pad_event_default(pad, parent, event);
-  nns::gst::EventPtr owned(event);
-  return nns::gst::guard(self, FALSE, [&]() -> gboolean {
-    GstCaps *caps;
-    gst_event_parse_caps(event, &caps);
-    auto cfg = nns::gst::config_from_caps(caps);
-    if (!cfg.info.valid())
-      nns::fail(nns::ErrorKind::kNegotiation,
-                "sink caps need the dimensions and types of every tensor, got " +
-                    nns::gst::caps_to_string(caps));
-    if (cfg.info.size() > nns::kMemoryMax)
-      nns::fail(nns::ErrorKind::kNegotiation,
-                "sparse frames carry at most 16 tensors, the input has " +
-                    std::to_string(cfg.info.size()));
-    nns::TensorsConfig out;
-    out.info.format = nns::TensorFormat::kSparse;
-    out.rate_n = cfg.rate_n;
-    out.rate_d = cfg.rate_d;
-    nns::gst::set_src_caps(self->srcpad, out, "src");
-    self->priv->in = cfg;
-    return TRUE;
-  });
+  return nns::gst::sparse::sink_event(GST_ELEMENT(self), pad, event,
+                                      [self](GstCaps *caps) { on_caps(self, caps); });
 }
 
 static GstFlowReturn sparse_enc_chain(GstPad *, GstObject *parent, GstBuffer *buf) {
   auto *self = GST_TENSOR_SPARSE_ENC(parent);
-  nns::gst::BufferPtr in(buf);
-  return nns::gst::guard(self, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
-    auto &cfg = self->priv->in;
-    if (!cfg) nns::fail(nns::ErrorKind::kNegotiation, "buffer before caps");
-    nns::gst::check_static_buffer(buf, cfg->info);
-    nns::gst::TensorMaps maps(buf, cfg->info.size());
-    nns::gst::BufferPtr out(gst_buffer_new());
-    for (std::size_t i = 0; i < maps.size(); ++i) {
-      const auto &t = cfg->info[i];
-      std::size_t nnz = nns::sparse_count_nonzero(t, maps.data(i));
-      std::size_t size = nns::sparse_encoded_size(t.type, nnz);
-      GstMemory *mem = nns::gst::alloc_memory(size);
-      {
-        nns::gst::MemoryMap w(mem, GST_MAP_WRITE);
-        nns::sparse_encode(t, maps.data(i), w.data());
-      }
-      gst_buffer_append_memory(out.get(), mem);
-    }
-    gst_buffer_copy_into(out.get(), buf, GST_BUFFER_COPY_METADATA, 0, -1);
-    if (!self->priv->silent)
-      GST_INFO_OBJECT(self, "encoded %zu tensor(s), %zu -> %zu bytes", maps.size(),
-                      gst_buffer_get_size(buf), gst_buffer_get_size(out.get()));
-    return gst_pad_push(self->srcpad, out.release());
-  });
+  return nns::gst::sparse::chain(GST_ELEMENT(self), self->srcpad, buf,
+                                 [self](GstBuffer *in, GstBuffer *out) { encode(self, in, out); });
 }
 
 static void gst_tensor_sparse_enc_set_property(GObject *object, guint id, const GValue *value,
                                                GParamSpec *pspec) {
-  auto *self = GST_TENSOR_SPARSE_ENC(object);
-  if (id == PROP_SILENT)
-    self->priv->silent = g_value_get_boolean(value);
-  else
-    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  nns::gst::sparse::set_silent(object, id, value, pspec,
+                               GST_TENSOR_SPARSE_ENC(object)->priv->silent);
 }
 
 static void gst_tensor_sparse_enc_get_property(GObject *object, guint id, GValue *value,
                                                GParamSpec *pspec) {
-  auto *self = GST_TENSOR_SPARSE_ENC(object);
-  if (id == PROP_SILENT)
-    g_value_set_boolean(value, self->priv->silent);
-  else
-    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  nns::gst::sparse::get_silent(object, id, value, pspec,
+                               GST_TENSOR_SPARSE_ENC(object)->priv->silent);
 }
 
 static GstStateChangeReturn sparse_enc_change_state(GstElement *element, GstStateChange t) {
@@ -148,26 +134,15 @@ static void gst_tensor_sparse_enc_class_init(GstTensorSparseEncClass *klass) {
   gobject_class->set_property = gst_tensor_sparse_enc_set_property;
   gobject_class->get_property = gst_tensor_sparse_enc_get_property;
   gobject_class->finalize = gst_tensor_sparse_enc_finalize;
-  g_object_class_install_property(
-      gobject_class, PROP_SILENT,
-      g_param_spec_boolean("silent", "Silent", "Do not log per-buffer details", TRUE,
-                           static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS)));
-  gst_element_class_set_static_metadata(element_class, "TensorSparseEnc", "Filter/Tensor",
-                                        "Encodes static tensors into sparse tensors",
-                                        "nnstreamer-cpp");
-  gst_element_class_add_static_pad_template(element_class, &sink_template);
-  gst_element_class_add_static_pad_template(element_class, &src_template);
+  nns::gst::sparse::class_init(gobject_class, element_class, "TensorSparseEnc",
+                               "Encodes static tensors into sparse tensors", &sink_template,
+                               &src_template);
   element_class->change_state = sparse_enc_change_state;
 }
 
 static void gst_tensor_sparse_enc_init(GstTensorSparseEnc *self) {
   self->priv = new EncPriv();
-  self->sinkpad = gst_pad_new_from_static_template(&sink_template, "sink");
-  gst_pad_set_event_function(self->sinkpad, sparse_enc_sink_event);
-  gst_pad_set_chain_function(self->sinkpad, sparse_enc_chain);
-  GST_PAD_SET_PROXY_ALLOCATION(self->sinkpad);
-  gst_element_add_pad(GST_ELEMENT(self), self->sinkpad);
-  self->srcpad = gst_pad_new_from_static_template(&src_template, "src");
-  gst_pad_use_fixed_caps(self->srcpad);
-  gst_element_add_pad(GST_ELEMENT(self), self->srcpad);
+  nns::gst::sparse::add_pads(GST_ELEMENT(self), &sink_template, &src_template,
+                             sparse_enc_sink_event, sparse_enc_chain, true, &self->sinkpad,
+                             &self->srcpad);
 }

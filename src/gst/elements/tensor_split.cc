@@ -123,53 +123,21 @@ static GstFlowReturn gst_tensor_split_chain(GstPad *, GstObject *parent, GstBuff
 
 static gboolean gst_tensor_split_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
   auto *self = GST_TENSOR_SPLIT(parent);
-  switch (GST_EVENT_TYPE(event)) {
-    case GST_EVENT_CAPS: {
-      GstCaps *caps = nullptr;
-      gst_event_parse_caps(event, &caps);
-      gboolean ok = nns::gst::guard(self, FALSE, [&]() -> gboolean {
-        on_caps(self, caps);
-        return TRUE;
-      });
-      gst_event_unref(event);
-      return ok;
-    }
-    case GST_EVENT_EOS:
-      if (self->priv->pads.size() == 0) {
-        NNS_POST_ERROR(self, nns::ErrorKind::kStream,
-                       "got EOS before any output pad was created (no caps)");
-        gst_event_unref(event);
-        return FALSE;
-      }
-      break;
-    case GST_EVENT_FLUSH_STOP:
-      self->priv->pads.reset_flow();
-      break;
-    default:
-      break;
-  }
-  return gst_pad_event_default(pad, parent, event);
+  return self->priv->pads.sink_event(pad, event,
+                                     "got EOS before any output pad was created (no caps)",
+                                     [self](GstCaps *caps) { on_caps(self, caps); });
 }
 
 static GstStateChangeReturn gst_tensor_split_change_state(GstElement *element,
                                                           GstStateChange transition) {
-  auto *self = GST_TENSOR_SPLIT(element);
-  SplitPriv *p = self->priv;
-  if (transition == GST_STATE_CHANGE_READY_TO_PAUSED) {
-    bool ok = nns::gst::guard(self, false, [&] {
-      std::lock_guard<std::mutex> g(p->lock);
-      p->seg = nns::parse_tensorseg(p->tensorseg);
-      if (p->seg.empty())
-        nns::fail(nns::ErrorKind::kSettings, "tensorseg is not set: nothing to split");
-      p->pick = nns::parse_split_tensorpick(p->tensorpick);
-      return true;
-    });
-    if (!ok) return GST_STATE_CHANGE_FAILURE;
-  }
-  GstStateChangeReturn ret =
-      GST_ELEMENT_CLASS(gst_tensor_split_parent_class)->change_state(element, transition);
-  if (transition == GST_STATE_CHANGE_PAUSED_TO_READY) p->pads.remove_all();
-  return ret;
+  SplitPriv *p = GST_TENSOR_SPLIT(element)->priv;
+  return p->pads.change_state(GST_ELEMENT_CLASS(gst_tensor_split_parent_class), transition, [p] {
+    std::lock_guard<std::mutex> g(p->lock);
+    p->seg = nns::parse_tensorseg(p->tensorseg);
+    if (p->seg.empty())
+      nns::fail(nns::ErrorKind::kSettings, "tensorseg is not set: nothing to split");
+    p->pick = nns::parse_split_tensorpick(p->tensorpick);
+  });
 }
 
 static void gst_tensor_split_set_property(GObject *object, guint id, const GValue *value,

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Writes the seed corpus of the fuzz targets: valid encodings of many shapes (every type, ranks
+// 1..16, 1, 2, 16 and 17 tensors, names, flexible format, odd rates) for each wire format, and
+// valid flexible/sparse headers. usage: nns_fuzz_corpus <out-dir>  (makes <out-dir>/<target>/)
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/meta_header.h"
+#include "wire.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nns::wire::Format;
+
+void save(const fs::path &dir, int n, const uint8_t *p, std::size_t size) {
+  std::ofstream(dir / ("seed_" + std::to_string(n)), std::ios::binary)
+      .write(reinterpret_cast<const char *>(p), static_cast<std::streamsize>(size));
+}
+
+struct Spec {
+  uint32_t type;
+  std::vector<uint32_t> dims;
+  std::string name;
+};
+
+std::vector<std::vector<Spec>> frames() {
+  std::vector<std::vector<Spec>> out;
+  for (uint32_t t = 0; t < nns::wire::kTypeEnd; ++t) out.push_back({{t, {3, 2}, ""}});
+  for (uint32_t r = 1; r <= nns::wire::kRankLimit; ++r)
+    out.push_back({{5, std::vector<uint32_t>(r, r == 1 ? 5 : 1), "rank" + std::to_string(r)}});
+  out.push_back({{5, {4}, "a"}, {7, {2, 2, 2}, ""}});
+  for (std::size_t n : {16u, 17u}) {
+    std::vector<Spec> many;
+    for (std::size_t i = 0; i < n; ++i) many.push_back({static_cast<uint32_t>(i % 11), {2}, ""});
+    out.push_back(many);
+  }
+  out.push_back({{9, {1, 1, 1, 1}, std::string(40, 'n')}});
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s <out-dir>\n", argv[0]);
+    return 2;
+  }
+  const fs::path root = argv[1];
+  for (Format fmt : {Format::kProtobuf, Format::kFlatbuf, Format::kFlexbuf}) {
+    const fs::path dir = root / (std::string("wire_") + nns::wire::format_name(fmt));
+    fs::create_directories(dir);
+    int n = 0;
+    for (const auto &specs : frames()) {
+      for (int rate = 0; rate < 2; ++rate) {
+        nns::wire::Frame f;
+        f.rate_n = rate ? 30 : 0;
+        f.rate_d = rate ? 1 : 1;
+        std::vector<std::vector<uint8_t>> blobs;
+        for (const Spec &s : specs) {
+          nns::wire::Tensor t;
+          t.name = s.name;
+          t.type = s.type;
+          std::size_t bytes = nns::wire::type_size(s.type);
+          for (std::size_t k = 0; k < s.dims.size(); ++k) t.dims[k] = s.dims[k], bytes *= s.dims[k];
+          blobs.emplace_back(bytes);
+          for (std::size_t k = 0; k < bytes; ++k)
+            blobs.back()[k] = static_cast<uint8_t>(k * 13 + n);
+          f.tensors.push_back(t);
+        }
+        for (std::size_t i = 0; i < specs.size(); ++i)
+          f.tensors[i].data = blobs[i].data(), f.tensors[i].size = blobs[i].size();
+        std::vector<uint8_t> bytes;
+        nns::wire::encode(fmt, f, bytes);
+        save(dir, n++, bytes.data(), bytes.size());
+      }
+    }
+    // A flexible frame: each tensor memory starts with its 128-byte header.
+    std::vector<uint8_t> mem(nns::kMetaHeaderSize + 6);
+    nns::MetaHeader h;
+    h.type = nns::TensorType::kUInt8;
+    h.dims[0] = 6;
+    h.format = nns::TensorFormat::kFlexible;
+    nns::write_meta_header(h, mem.data());
+    nns::wire::Frame f;
+    f.format = 1;
+    nns::wire::Tensor t;
+    t.type = 5;
+    t.dims[0] = 6;
+    t.data = mem.data();
+    t.size = mem.size();
+    f.tensors.push_back(t);
+    std::vector<uint8_t> bytes;
+    nns::wire::encode(fmt, f, bytes);
+    save(dir, n++, bytes.data(), bytes.size());
+  }
+  const fs::path dir = root / "meta_header";
+  fs::create_directories(dir);
+  int n = 0;
+  for (int t = 0; t < 11; ++t) {
+    for (int fmt = 0; fmt < 3; ++fmt) {
+      nns::MetaHeader h;
+      h.type = static_cast<nns::TensorType>(t);
+      h.format = static_cast<nns::TensorFormat>(fmt);
+      for (int k = 0; k <= t % 5; ++k) h.dims[k] = static_cast<uint32_t>(k + 2);
+      h.nnz = fmt == 2 ? 3 : 0;
+      uint8_t buf[nns::kMetaHeaderSize];
+      nns::write_meta_header(h, buf);
+      save(dir, n++, buf, sizeof buf);
+    }
+  }
+  std::printf("seed corpus written to %s\n", root.c_str());
+  return 0;
+}
