@@ -117,6 +117,8 @@ struct FilterHarness {
     gst_harness_set_src_caps_str(h.get(), src_caps.c_str());
   }
   ~FilterHarness() {
+    // Drop the queued messages first: they hold the element, which holds the bus (a leak cycle).
+    gst_bus_set_flushing(bus, TRUE);
     h.reset();
     gst_object_unref(bus);
   }

@@ -512,7 +512,7 @@ gboolean inproc_out_config(const GstCaps *, GstTensorsConfig *config) {
 }
 GstBuffer *inproc_convert(GstBuffer *in, GstTensorsConfig *config, void *) {
   inproc_out_config(nullptr, config);
-  return gst_buffer_ref(in);
+  return in;  // returning the input moves the element's reference (no extra ref: that leaked)
 }
 GstCaps *inproc_caps(const GstTensorsConfig *) {
   return gst_caps_from_string("application/x-nns-inproc");

@@ -205,7 +205,7 @@ TEST(TensorDecoderFlexible, CorruptHeaderIsABusErrorNamingTensorAndField) {
   EXPECT_NE(std::string::npos, r.error_text.find("magic")) << r.error_text;
 
   bytes = flex_bytes(nns::TensorType::kUInt8, {16});
-  bytes.resize(bytes.size() - 3);  // payload shorter than the header says
+  bytes.erase(bytes.end() - 3, bytes.end());  // payload shorter than the header says
   r = run_flex_file(bytes);
   ASSERT_TRUE(r.error);
   EXPECT_NE(std::string::npos, r.error_text.find("input tensor 0")) << r.error_text;

@@ -275,7 +275,8 @@ static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
                                                   GstPadDirection direction, GstCaps *caps,
                                                   GstCaps *filter) {
   auto *self = GST_TENSOR_DECODER(trans);
-  return nns::gst::guard(self, gst_caps_new_empty(), [&]() -> GstCaps * {
+  // The error value is made only on error (an eager gst_caps_new_empty() here leaked).
+  GstCaps *out = nns::gst::guard(self, static_cast<GstCaps *>(nullptr), [&]() -> GstCaps * {
     GstCaps *result;
     if (direction == GST_PAD_SRC) {
       // Static and flexible input are decoded; sparse is not offered (the template keeps
@@ -293,9 +294,12 @@ static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
         // Linking may query caps before the settings are complete; start() reports them.
         return gst_caps_new_any();
       }
-      result = gst_caps_new_empty();
-      for (guint i = 0; i < gst_caps_get_size(caps); ++i)
-        result = gst_caps_merge(result, out_caps_for(p, gst_caps_get_structure(caps, i)));
+      nns::gst::CapsPtr merged(gst_caps_new_empty());  // freed when out_caps_for throws
+      for (guint i = 0; i < gst_caps_get_size(caps); ++i) {
+        GstCaps *one = out_caps_for(p, gst_caps_get_structure(caps, i));
+        merged.reset(gst_caps_merge(merged.release(), one));
+      }
+      result = merged.release();
     }
     if (filter) {
       GstCaps *r = gst_caps_intersect_full(filter, result, GST_CAPS_INTERSECT_FIRST);
@@ -304,6 +308,7 @@ static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
     }
     return result;
   });
+  return out ? out : gst_caps_new_empty();
 }
 
 static GstCaps *gst_tensor_decoder_fixate_caps(GstBaseTransform *trans, GstPadDirection direction,
