@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// GstTensorSync: the GstAggregator base shared by tensor_mux and tensor_merge. It owns the
-// request pads `sink_%u`, applies the sync-mode policy (src/core/time_sync.h) to choose one
-// buffer per pad, negotiates the src caps and timestamps the output (PTS = the policy's time,
-// other metadata from the buffer that set it). Subclasses only say how input configs become
-// the output config (`configure`) and how the chosen buffers become one output (`combine`).
+// GstTensorSync: the base shared by tensor_mux and tensor_merge. It owns the request pads
+// `sink_%u` (each with a queue), applies the sync-mode policy (src/core/time_sync.h) to choose
+// one buffer per pad, negotiates the src caps and timestamps the output (PTS = the policy's
+// time, other metadata from the buffer that set it). Subclasses only say how input configs
+// become the output config (`configure`) and how the chosen buffers become one output
+// (`combine`); the subclass must add a "src" pad template (always) and a "sink_%u" one
+// (request, with the GstTensorSyncPad type).
 #pragma once
 
-#include <gst/base/gstaggregator.h>
+#include <gst/gst.h>
 
 #include <string>
 #include <vector>
@@ -16,16 +18,17 @@
 G_BEGIN_DECLS
 
 #define GST_TYPE_TENSOR_SYNC_PAD (gst_tensor_sync_pad_get_type())
-G_DECLARE_FINAL_TYPE(GstTensorSyncPad, gst_tensor_sync_pad, GST, TENSOR_SYNC_PAD, GstAggregatorPad)
+G_DECLARE_FINAL_TYPE(GstTensorSyncPad, gst_tensor_sync_pad, GST, TENSOR_SYNC_PAD, GstPad)
 
 #define GST_TYPE_TENSOR_SYNC (gst_tensor_sync_get_type())
-G_DECLARE_DERIVABLE_TYPE(GstTensorSync, gst_tensor_sync, GST, TENSOR_SYNC, GstAggregator)
+G_DECLARE_DERIVABLE_TYPE(GstTensorSync, gst_tensor_sync, GST, TENSOR_SYNC, GstElement)
 
 struct _GstTensorSyncClass {
-  GstAggregatorClass parent_class;
+  GstElementClass parent_class;
   const char *default_sync_mode;  // set by sync_install_properties
   // Output config from the sink pads' configs (pad order; `names` are the pad names for
-  // messages). Called on the streaming thread when the inputs change; throws nns::Error.
+  // messages). Called when the inputs change, by the one thread that builds outputs at that
+  // moment (configure and combine never run concurrently); throws nns::Error.
   nns::TensorsConfig (*configure)(GstTensorSync *self, const std::vector<nns::TensorsConfig> &in,
                                   const std::vector<std::string> &names);
   // One output buffer (without timestamps) from one buffer per pad, in pad order, for the

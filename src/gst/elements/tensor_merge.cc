@@ -222,8 +222,7 @@ static void gst_tensor_merge_class_init(GstTensorMergeClass *klass) {
                                         "nnstreamer-cpp");
   gst_element_class_add_static_pad_template_with_gtype(element_class, &sink_template,
                                                        GST_TYPE_TENSOR_SYNC_PAD);
-  gst_element_class_add_static_pad_template_with_gtype(element_class, &src_template,
-                                                       GST_TYPE_AGGREGATOR_PAD);
+  gst_element_class_add_static_pad_template(element_class, &src_template);
 }
 
 static void gst_tensor_merge_init(GstTensorMerge *self) {
