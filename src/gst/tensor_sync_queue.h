@@ -68,16 +68,21 @@ struct SyncPadState {
   int waiters = 0;            // producers waiting for room in `queue`
   std::condition_variable room;
 
-  // A pad queues this many buffers at most, and stops taking more at this many bytes (it
-  // always takes one). Deep enough that producers rarely have to sleep, small enough for
-  // large frames; outputs do not depend on it (a set is built only when every pad has data).
+  // A pad queues `max_buffers` buffers at most, and stops taking more at kMaxBytes (it always
+  // takes one). For inputs that are not live the queue is deep (kMaxBuffers), so producers
+  // rarely have to sleep; outputs do not depend on it, as a set is built only when every pad
+  // has data. A live input queues kLiveBuffers at most, so that it is held back, not paired
+  // with frames from long ago (upstream's CollectPads holds one buffer per pad).
   static constexpr std::size_t kMaxBuffers = 64;
+  static constexpr std::size_t kLiveBuffers = 2;
   static constexpr std::size_t kMaxBytes = 8u << 20;
-  bool has_room() const { return buffers == 0 || (buffers < kMaxBuffers && bytes < kMaxBytes); }
+  std::size_t max_buffers = 0;  // 0: not known yet (decided at the pad's first buffer)
+
+  bool has_room() const { return buffers == 0 || (buffers < max_buffers && bytes < kMaxBytes); }
   // A producer waiting for room is woken only once the queue has drained to half, so that it
   // then queues many buffers per wake-up instead of one.
   bool wake_producer() const {
-    return waiters > 0 && (buffers == 0 || (buffers <= kMaxBuffers / 2 && bytes <= kMaxBytes / 2));
+    return waiters > 0 && (buffers == 0 || (buffers <= max_buffers / 2 && bytes <= kMaxBytes / 2));
   }
 };
 
