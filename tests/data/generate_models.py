@@ -7,6 +7,8 @@ For every model NAME it writes
   NAME.onnx          ONNX (opset 13), static shapes unless the name says "dynamic"
   NAME.pt            TorchScript (torch.jit.trace) of the same module, same inputs/outputs
   NAME.py            an nnstreamer python3 filter script computing the same thing with numpy
+  NAME.tflite        TensorFlow Lite twin written with tflite_writer.py (python3-flatbuffers,
+                     no TensorFlow); without flatbuffers the sidecar's "not_written" says why
   NAME.in<i>.raw     reference input i (little-endian, C order)
   NAME.out<i>.raw    reference output i computed by torch in float32
   NAME.json          sidecar: names, types, shapes (outermost first, as the frameworks see
@@ -21,6 +23,15 @@ import sys
 import numpy as np
 import torch
 import torch.nn as nn
+
+try:
+    import tflite_writer  # next to this script; needs python3-flatbuffers
+    TFLITE_MISSING = None
+except ImportError as err:
+    tflite_writer = None
+    TFLITE_MISSING = ("not written: %s under %s when the models were generated (install Debian's "
+                      "python3-flatbuffers, scripts/deps/armnn.apt, remove %%s and rebuild the "
+                      "target nns_test_models)" % (err, sys.executable))
 
 TYPE_NAMES = {
     np.dtype(np.float32): "float32",
@@ -167,7 +178,7 @@ def tensor_entry(prefix, i, name, arr, out_dir, model):
 
 
 def export(out_dir, name, module, inputs, in_names, out_names, description, dynamic=None,
-           tolerance=1e-5, make_pt=True, make_py=True):
+           tolerance=1e-5, make_pt=True, make_py=True, make_tflite=True):
     module.eval()
     tin = tuple(torch.from_numpy(a) for a in inputs)
     with torch.no_grad():
@@ -186,6 +197,13 @@ def export(out_dir, name, module, inputs, in_names, out_names, description, dyna
         traced.save(os.path.join(out_dir, name + ".pt"))
     if make_py:
         write_py_filter(out_dir, name, module, inputs, outputs)
+    not_written = {}
+    if make_tflite and tflite_writer:
+        if not tflite_writer.write(os.path.join(out_dir, name + ".tflite"), name, module, inputs,
+                                   in_names, out_names, description):
+            sys.exit("generate_models.py: no TFLite twin of %s in tflite_writer.py" % name)
+    elif make_tflite:
+        not_written["tflite"] = TFLITE_MISSING % os.path.join(out_dir, "models.json")
 
     sidecar = {
         "model": name,
@@ -201,6 +219,10 @@ def export(out_dir, name, module, inputs, in_names, out_names, description, dyna
         sidecar["files"]["pytorch"] = name + ".pt"
     if make_py:
         sidecar["files"]["python3"] = name + ".py"
+    if make_tflite and tflite_writer:
+        sidecar["files"]["tflite"] = name + ".tflite"
+    if not_written:
+        sidecar["not_written"] = not_written
     if dynamic:
         sidecar["dynamic_axes"] = {k: list(v) for k, v in dynamic.items()}
     with open(os.path.join(out_dir, name + ".json"), "w") as f:
@@ -236,7 +258,7 @@ def main():
     dyn = {"a": {0: "batch"}, "b": {0: "batch"}, "sum": {0: "batch"}, "product": {0: "batch"}}
     models.append(export(out_dir, "add_mul_dynamic", AddMul(), [a, b], ["a", "b"],
                          ["sum", "product"], "add_mul with a dynamic batch axis", dynamic=dyn,
-                         make_pt=False, make_py=False))
+                         make_pt=False, make_py=False, make_tflite=False))
 
     with open(os.path.join(out_dir, "models.json"), "w") as f:
         json.dump({"models": [m["model"] for m in models]}, f, indent=1)
