@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 # Generated test models (tests/data/generate_models.py) into build/tests/models/: tiny torch
 # modules exported to ONNX and TorchScript, python3 filter twins, TensorFlow Lite twins
-# (tests/data/tflite_writer.py) and reference outputs.
+# (tests/data/tflite_writer.py), a tiny Darknet model and reference outputs.
 # Needs Debian's python3-torch, python3-onnx and python3-numpy under /usr/bin/python3; the .tflite
 # twins also need python3-flatbuffers (without it their sidecars say "not_written").
 set(NNS_TEST_MODELS_DIR ${CMAKE_BINARY_DIR}/tests/models)

@@ -230,6 +230,75 @@ def export(out_dir, name, module, inputs, in_names, out_names, description, dyna
     return sidecar
 
 
+DARKNET_CFG = """[net]
+batch=1
+width=8
+height=6
+channels=3
+
+[convolutional]
+filters=4
+size=3
+stride=1
+pad=1
+activation=leaky
+
+[maxpool]
+size=2
+stride=2
+
+[connected]
+output=5
+activation=linear
+"""
+
+
+def write_darknet(out_dir, rng):
+    """tiny_darknet.cfg + .weights for OpenCV's Darknet reader: conv3x3 (4 filters, pad 1, leaky
+    0.1) -> maxpool 2x2 -> connected 5, on float32 NCHW [1,3,6,8] (height 6, width 8: not square,
+    so a swapped height/width shows). The reference is numpy."""
+    name = "tiny_darknet"
+    conv_w = rng.uniform(-0.5, 0.5, (4, 3, 3, 3)).astype(np.float32)
+    conv_b = rng.uniform(-0.1, 0.1, 4).astype(np.float32)
+    h, w = 6, 8
+    fc_w = rng.uniform(-0.3, 0.3, (5, 4 * (h // 2) * (w // 2))).astype(np.float32)
+    fc_b = rng.uniform(-0.1, 0.1, 5).astype(np.float32)
+    x = rng.uniform(-1, 1, (1, 3, h, w)).astype(np.float32)
+
+    p = np.pad(x[0], ((0, 0), (1, 1), (1, 1)))
+    y = np.zeros((4, h, w), np.float32)
+    for i in range(3):
+        for j in range(3):
+            y += np.einsum("oc,chw->ohw", conv_w[:, :, i, j], p[:, i:i + h, j:j + w])
+    y += conv_b[:, None, None]
+    y = np.where(y > 0, y, np.float32(0.1) * y)
+    y = y.reshape(4, h // 2, 2, w // 2, 2).max(axis=(2, 4))
+    out = (fc_w @ y.reshape(-1) + fc_b).astype(np.float32).reshape(1, 5)
+
+    with open(os.path.join(out_dir, name + ".cfg"), "w") as f:
+        f.write(DARKNET_CFG)
+    with open(os.path.join(out_dir, name + ".weights"), "wb") as f:
+        # Header: major, minor, revision (int32), images seen (uint64 from version 0.2 on);
+        # then per layer biases followed by weights (conv: filters x channels x size x size,
+        # connected: outputs x inputs), little-endian float32.
+        np.array([0, 2, 5], "<i4").tofile(f)
+        np.array([0], "<u8").tofile(f)
+        for arr in (conv_b, conv_w, fc_b, fc_w):
+            arr.astype("<f4").tofile(f)
+    sidecar = {
+        "model": name,
+        "description": "Darknet cfg+weights: float32 NCHW [1,3,6,8] -> conv3x3(4, leaky) -> "
+                       "maxpool2 -> connected [1,5]; numpy reference",
+        "files": {"darknet_cfg": name + ".cfg", "darknet_weights": name + ".weights"},
+        "inputs": [tensor_entry("in", 0, "data", x, out_dir, name)],
+        "outputs": [tensor_entry("out", 0, "fullyConnected_2", out, out_dir, name)],
+        "tolerance": {"abs": 1e-5, "rel": 0.0},
+    }
+    with open(os.path.join(out_dir, name + ".json"), "w") as f:
+        json.dump(sidecar, f, indent=1)
+    return sidecar
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: generate_models.py <output folder>")
@@ -259,6 +328,8 @@ def main():
     models.append(export(out_dir, "add_mul_dynamic", AddMul(), [a, b], ["a", "b"],
                          ["sum", "product"], "add_mul with a dynamic batch axis", dynamic=dyn,
                          make_pt=False, make_py=False, make_tflite=False))
+
+    models.append(write_darknet(out_dir, rng))
 
     with open(os.path.join(out_dir, "models.json"), "w") as f:
         json.dump({"models": [m["model"] for m in models]}, f, indent=1)

@@ -224,6 +224,22 @@ TEST_F(FilterPipeline, LenetOpencvNine) {
   EXPECT_EQ(argmax_f32(got), 9u);
 }
 
+// The generated Darknet model through tensor_filter: no input= (the shape comes from the .cfg's
+// [net] section, so the converter's 8:6:3:1 caps must match it), .weights named first.
+TEST_F(FilterPipeline, DarknetOpencvMatchesReference) {
+  need_backend("opencv");
+  if (IsSkipped()) return;
+  auto m = load_ref("tiny_darknet");
+  ASSERT_TRUE(m) << "generated models missing in " << models_dir();
+  const std::vector<uint8_t> &x = m->inputs[0].bytes;
+  std::string f = write("darknet.in", x.data(), x.size());
+  auto got = run_to_file("filesrc location=" + f + " blocksize=" + std::to_string(x.size()) +
+                         " ! application/octet-stream ! tensor_converter input-dim=8:6:3:1 "
+                         "input-type=float32 ! tensor_filter framework=opencv model=" +
+                         m->file("darknet_weights") + "," + m->file("darknet_cfg"));
+  EXPECT_EQ(compare(m->outputs[0], got.data(), got.size(), 1e-5, 0), "");
+}
+
 // What the user sees on the bus when the back end refuses.
 TEST_F(FilterPipeline, BackendErrorsReachTheBus) {
   need_backend("onnxruntime");
