@@ -258,6 +258,7 @@ struct RefModel {
   std::string name;
   std::string dir;
   nlohmann::json files;
+  nlohmann::json not_written;  // flavour -> why the generator could not write it
   std::vector<RefTensor> inputs, outputs;
   double abs_tol = 1e-5, rel_tol = 1e-4;
 
@@ -265,6 +266,12 @@ struct RefModel {
   std::string file(const std::string &kind) const {
     if (!files.contains(kind)) return "";
     return dir + "/" + files[kind].get<std::string>();
+  }
+  // Why the `kind` flavour was expected but not generated (e.g. python3-flatbuffers missing for
+  // "tflite"), or "" when it was generated or this model never has one.
+  std::string why_not_written(const std::string &kind) const {
+    if (!not_written.is_object() || !not_written.contains(kind)) return "";
+    return not_written[kind].get<std::string>();
   }
 };
 
@@ -283,6 +290,7 @@ inline std::optional<RefModel> load_ref(const std::string &name) {
   m.name = name;
   m.dir = dir;
   m.files = j["files"];
+  if (j.contains("not_written")) m.not_written = j["not_written"];
   m.abs_tol = j["tolerance"]["abs"].get<double>();
   m.rel_tol = j["tolerance"]["rel"].get<double>();
   for (const char *kind : {"inputs", "outputs"}) {

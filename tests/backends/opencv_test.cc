@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// The opencv filter back end through its C ABI: Caffe LeNet (two model files), TensorFlow
-// graph with input=, ONNX info read from the file, custom= keys and error texts.
+// The opencv filter back end through its C ABI: Caffe LeNet (two model files), Darknet
+// .cfg + .weights (generated, numpy reference), TensorFlow graph with input=, ONNX info read from
+// the file, custom= keys and error texts.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 
 #include "backends/backend_loader.h"
 #include "support/harness.h"
@@ -97,6 +100,77 @@ TEST_F(OpenCv, OnnxInfoIsReadFromTheFile) {
   ASSERT_TRUE(inst) << err;
   ASSERT_EQ(inst->model_info(in, out), 0);
   EXPECT_EQ(desc_string(in.tensors[0]), "'pixels' uint8 3:8:8:1");
+}
+
+// tests/data/generate_models.py's tiny_darknet: conv3x3 (leaky) -> maxpool -> connected, with
+// known weights; OpenCV's output must match the generator's numpy reference within 1e-5.
+TEST_F(OpenCv, DarknetMatchesNumpyReference) {
+  auto m = load_ref("tiny_darknet");
+  ASSERT_TRUE(m) << "generated models missing in " << models_dir();
+  std::string cfg = m->file("darknet_cfg"), weights = m->file("darknet_weights");
+  ASSERT_EQ(m->inputs.size(), 1u);
+  ASSERT_EQ(m->outputs.size(), 1u);
+  // Either order of the two files works (classified by extension).
+  for (auto files :
+       {std::vector<std::string>{cfg, weights}, std::vector<std::string>{weights, cfg}}) {
+    Props p;
+    p.models = files;
+    std::string err;
+    auto inst = open(p, &err);
+    ASSERT_TRUE(inst) << files[0] << "," << files[1] << ": " << err;
+    nns_tensors_desc in{}, out{};
+    ASSERT_EQ(inst->model_info(in, out, &err), 0) << err;
+    ASSERT_EQ(in.num_tensors, 1u);
+    EXPECT_EQ(desc_string(in.tensors[0]), "float32 8:6:3:1");  // [net] channels, height, width
+    ASSERT_EQ(out.num_tensors, 1u);
+    EXPECT_EQ(desc_string(out.tensors[0]), "'fullyConnected_2' float32 5:1");
+
+    std::vector<uint8_t> x = m->inputs[0].bytes;
+    std::vector<float> y(5, -999.f);
+    std::vector<GstTensorMemory> i = {{x.data(), x.size()}}, o = {{y.data(), y.size() * 4}};
+    ASSERT_EQ(inst->invoke(i, o, &err), 0) << err;
+    EXPECT_EQ(compare(m->outputs[0], reinterpret_cast<const uint8_t *>(y.data()), y.size() * 4,
+                      1e-5, 0.0),
+              "");
+  }
+}
+
+TEST_F(OpenCv, DarknetFileErrors) {
+  auto m = load_ref("tiny_darknet");
+  ASSERT_TRUE(m) << "generated models missing in " << models_dir();
+  std::string cfg = m->file("darknet_cfg"), weights = m->file("darknet_weights");
+  Props p;
+  p.models = {cfg};
+  std::string err = open_error(p);
+  EXPECT_NE(err.find("only the configuration file " + cfg), std::string::npos) << err;
+  EXPECT_NE(err.find(".weights"), std::string::npos) << err;
+
+  p.models = {weights};
+  err = open_error(p);
+  EXPECT_NE(err.find(weights + " needs its network description (.cfg)"), std::string::npos) << err;
+
+  int rc = 0;
+  std::string missing = models_dir() + "/no_such_net.weights";
+  p.models = {cfg, missing};
+  err = open_error(p, &rc);
+  EXPECT_EQ(rc, -ENOENT);
+  EXPECT_NE(err.find(missing + ": model file not found"), std::string::npos) << err;
+
+  // OpenCV itself loads a short .weights file as a network of garbage: the back end refuses it.
+  std::string dir = make_temp_dir();
+  std::vector<uint8_t> bytes = read_file(weights);
+  ASSERT_EQ(bytes.size(), 20u + 4u * (4 + 4 * 3 * 3 * 3 + 5 + 5 * 4 * 3 * 4));
+  std::string cut = dir + "/cut.weights";
+  {
+    std::ofstream f(cut, std::ios::binary);
+    f.write(reinterpret_cast<const char *>(bytes.data()), 100);
+  }
+  p.models = {cut, cfg};
+  err = open_error(p);
+  EXPECT_NE(err.find(cut + ": Darknet weights file has 100 bytes, but its .cfg needs 1448"),
+            std::string::npos)
+      << err;
+  std::filesystem::remove_all(dir);
 }
 
 TEST_F(OpenCv, TensorflowGraphNeedsInputProperty) {

@@ -7,6 +7,8 @@ For every model NAME it writes
   NAME.onnx          ONNX (opset 13), static shapes unless the name says "dynamic"
   NAME.pt            TorchScript (torch.jit.trace) of the same module, same inputs/outputs
   NAME.py            an nnstreamer python3 filter script computing the same thing with numpy
+  NAME.tflite        TensorFlow Lite twin written with tflite_writer.py (python3-flatbuffers,
+                     no TensorFlow); without flatbuffers the sidecar's "not_written" says why
   NAME.in<i>.raw     reference input i (little-endian, C order)
   NAME.out<i>.raw    reference output i computed by torch in float32
   NAME.json          sidecar: names, types, shapes (outermost first, as the frameworks see
@@ -21,6 +23,15 @@ import sys
 import numpy as np
 import torch
 import torch.nn as nn
+
+try:
+    import tflite_writer  # next to this script; needs python3-flatbuffers
+    TFLITE_MISSING = None
+except ImportError as err:
+    tflite_writer = None
+    TFLITE_MISSING = ("not written: %s under %s when the models were generated (install Debian's "
+                      "python3-flatbuffers, scripts/deps/armnn.apt, remove %%s and rebuild the "
+                      "target nns_test_models)" % (err, sys.executable))
 
 TYPE_NAMES = {
     np.dtype(np.float32): "float32",
@@ -167,7 +178,7 @@ def tensor_entry(prefix, i, name, arr, out_dir, model):
 
 
 def export(out_dir, name, module, inputs, in_names, out_names, description, dynamic=None,
-           tolerance=1e-5, make_pt=True, make_py=True):
+           tolerance=1e-5, make_pt=True, make_py=True, make_tflite=True):
     module.eval()
     tin = tuple(torch.from_numpy(a) for a in inputs)
     with torch.no_grad():
@@ -186,6 +197,13 @@ def export(out_dir, name, module, inputs, in_names, out_names, description, dyna
         traced.save(os.path.join(out_dir, name + ".pt"))
     if make_py:
         write_py_filter(out_dir, name, module, inputs, outputs)
+    not_written = {}
+    if make_tflite and tflite_writer:
+        if not tflite_writer.write(os.path.join(out_dir, name + ".tflite"), name, module, inputs,
+                                   in_names, out_names, description):
+            sys.exit("generate_models.py: no TFLite twin of %s in tflite_writer.py" % name)
+    elif make_tflite:
+        not_written["tflite"] = TFLITE_MISSING % os.path.join(out_dir, "models.json")
 
     sidecar = {
         "model": name,
@@ -201,8 +219,81 @@ def export(out_dir, name, module, inputs, in_names, out_names, description, dyna
         sidecar["files"]["pytorch"] = name + ".pt"
     if make_py:
         sidecar["files"]["python3"] = name + ".py"
+    if make_tflite and tflite_writer:
+        sidecar["files"]["tflite"] = name + ".tflite"
+    if not_written:
+        sidecar["not_written"] = not_written
     if dynamic:
         sidecar["dynamic_axes"] = {k: list(v) for k, v in dynamic.items()}
+    with open(os.path.join(out_dir, name + ".json"), "w") as f:
+        json.dump(sidecar, f, indent=1)
+    return sidecar
+
+
+DARKNET_CFG = """[net]
+batch=1
+width=8
+height=6
+channels=3
+
+[convolutional]
+filters=4
+size=3
+stride=1
+pad=1
+activation=leaky
+
+[maxpool]
+size=2
+stride=2
+
+[connected]
+output=5
+activation=linear
+"""
+
+
+def write_darknet(out_dir, rng):
+    """tiny_darknet.cfg + .weights for OpenCV's Darknet reader: conv3x3 (4 filters, pad 1, leaky
+    0.1) -> maxpool 2x2 -> connected 5, on float32 NCHW [1,3,6,8] (height 6, width 8: not square,
+    so a swapped height/width shows). The reference is numpy."""
+    name = "tiny_darknet"
+    conv_w = rng.uniform(-0.5, 0.5, (4, 3, 3, 3)).astype(np.float32)
+    conv_b = rng.uniform(-0.1, 0.1, 4).astype(np.float32)
+    h, w = 6, 8
+    fc_w = rng.uniform(-0.3, 0.3, (5, 4 * (h // 2) * (w // 2))).astype(np.float32)
+    fc_b = rng.uniform(-0.1, 0.1, 5).astype(np.float32)
+    x = rng.uniform(-1, 1, (1, 3, h, w)).astype(np.float32)
+
+    p = np.pad(x[0], ((0, 0), (1, 1), (1, 1)))
+    y = np.zeros((4, h, w), np.float32)
+    for i in range(3):
+        for j in range(3):
+            y += np.einsum("oc,chw->ohw", conv_w[:, :, i, j], p[:, i:i + h, j:j + w])
+    y += conv_b[:, None, None]
+    y = np.where(y > 0, y, np.float32(0.1) * y)
+    y = y.reshape(4, h // 2, 2, w // 2, 2).max(axis=(2, 4))
+    out = (fc_w @ y.reshape(-1) + fc_b).astype(np.float32).reshape(1, 5)
+
+    with open(os.path.join(out_dir, name + ".cfg"), "w") as f:
+        f.write(DARKNET_CFG)
+    with open(os.path.join(out_dir, name + ".weights"), "wb") as f:
+        # Header: major, minor, revision (int32), images seen (uint64 from version 0.2 on);
+        # then per layer biases followed by weights (conv: filters x channels x size x size,
+        # connected: outputs x inputs), little-endian float32.
+        np.array([0, 2, 5], "<i4").tofile(f)
+        np.array([0], "<u8").tofile(f)
+        for arr in (conv_b, conv_w, fc_b, fc_w):
+            arr.astype("<f4").tofile(f)
+    sidecar = {
+        "model": name,
+        "description": "Darknet cfg+weights: float32 NCHW [1,3,6,8] -> conv3x3(4, leaky) -> "
+                       "maxpool2 -> connected [1,5]; numpy reference",
+        "files": {"darknet_cfg": name + ".cfg", "darknet_weights": name + ".weights"},
+        "inputs": [tensor_entry("in", 0, "data", x, out_dir, name)],
+        "outputs": [tensor_entry("out", 0, "fullyConnected_2", out, out_dir, name)],
+        "tolerance": {"abs": 1e-5, "rel": 0.0},
+    }
     with open(os.path.join(out_dir, name + ".json"), "w") as f:
         json.dump(sidecar, f, indent=1)
     return sidecar
@@ -236,7 +327,9 @@ def main():
     dyn = {"a": {0: "batch"}, "b": {0: "batch"}, "sum": {0: "batch"}, "product": {0: "batch"}}
     models.append(export(out_dir, "add_mul_dynamic", AddMul(), [a, b], ["a", "b"],
                          ["sum", "product"], "add_mul with a dynamic batch axis", dynamic=dyn,
-                         make_pt=False, make_py=False))
+                         make_pt=False, make_py=False, make_tflite=False))
+
+    models.append(write_darknet(out_dir, rng))
 
     with open(os.path.join(out_dir, "models.json"), "w") as f:
         json.dump({"models": [m["model"] for m in models]}, f, indent=1)

@@ -51,15 +51,19 @@ class FilterPipeline : public ::testing::Test {
   std::string dir_;
 };
 
-// Both back ends reading ONNX run the generated models: the filter's output frame is the model
-// outputs one after the other.
+// The back ends reading ONNX, and armnn reading the .tflite twins, run the generated models: the
+// filter's output frame is the model outputs one after the other. (A missing .tflite twin is
+// reported by filter_conformance_test.)
 TEST_F(FilterPipeline, GeneratedModelsMatchReference) {
-  for (const char *backend : {"onnxruntime", "opencv"}) {
+  const std::pair<const char *, const char *> kinds[] = {
+      {"onnxruntime", "onnx"}, {"opencv", "onnx"}, {"armnn", "tflite"}};
+  for (const auto &[backend, kind] : kinds) {
     if (!std::filesystem::exists(backend_path(backend))) continue;
     for (const char *name : {"add_mul", "conv_net", "uint8_scale"}) {
       SCOPED_TRACE(std::string(backend) + " " + name);
       auto m = load_ref(name);
       ASSERT_TRUE(m) << "generated models missing in " << models_dir();
+      if (m->file(kind).empty()) continue;
       std::vector<uint8_t> in;
       std::string dims, types;
       for (const auto &t : m->inputs) {
@@ -72,7 +76,7 @@ TEST_F(FilterPipeline, GeneratedModelsMatchReference) {
           run_to_file("filesrc location=" + in_file + " blocksize=" + std::to_string(in.size()) +
                       " ! application/octet-stream ! tensor_converter input-dim=" + dims +
                       " input-type=" + types + " ! tensor_filter framework=" + backend +
-                      " model=" + m->file("onnx"));
+                      " model=" + m->file(kind));
       std::size_t off = 0;
       for (std::size_t i = 0; i < m->outputs.size(); ++i) {
         std::size_t n = m->outputs[i].bytes.size();
@@ -218,6 +222,22 @@ TEST_F(FilterPipeline, LenetOpencvNine) {
                          filter);
   ASSERT_EQ(got.size(), 40u);
   EXPECT_EQ(argmax_f32(got), 9u);
+}
+
+// The generated Darknet model through tensor_filter: no input= (the shape comes from the .cfg's
+// [net] section, so the converter's 8:6:3:1 caps must match it), .weights named first.
+TEST_F(FilterPipeline, DarknetOpencvMatchesReference) {
+  need_backend("opencv");
+  if (IsSkipped()) return;
+  auto m = load_ref("tiny_darknet");
+  ASSERT_TRUE(m) << "generated models missing in " << models_dir();
+  const std::vector<uint8_t> &x = m->inputs[0].bytes;
+  std::string f = write("darknet.in", x.data(), x.size());
+  auto got = run_to_file("filesrc location=" + f + " blocksize=" + std::to_string(x.size()) +
+                         " ! application/octet-stream ! tensor_converter input-dim=8:6:3:1 "
+                         "input-type=float32 ! tensor_filter framework=opencv model=" +
+                         m->file("darknet_weights") + "," + m->file("darknet_cfg"));
+  EXPECT_EQ(compare(m->outputs[0], got.data(), got.size(), 1e-5, 0), "");
 }
 
 // What the user sees on the bus when the back end refuses.

@@ -8,20 +8,22 @@
 //     tensor_filter framework=opencv model=lenet.prototxt,lenet_iter_9000.caffemodel ! tensor_sink
 //
 // model= is one file (.onnx, frozen .pb) or two (.prototxt + .caffemodel, .cfg + .weights,
-// .pb + .pbtxt) in any order. Inputs: ONNX names/types/shapes come from the model file; Caffe
-// and Darknet input shapes from the network when it declares them; otherwise input= (and
-// inputtype=, default float32) are required. Output shapes and types are learnt from one run
-// on zeros at open. OpenCV copies the input into its own blob and hands back its own output
-// blobs, so the back end copies each output once into the caller's buffer. Net::forward is
-// not re-entrant: invokes are serialised (the back end is not marked thread-safe).
+// .pb + .pbtxt) in any order. Inputs: ONNX names/types/shapes come from the model file, Darknet
+// shapes from the .cfg's [net] section, Caffe input shapes from the network when it declares
+// them; otherwise input= (and inputtype=, default float32) are required. Output shapes and types
+// are learnt from one run on zeros at open. OpenCV copies the input into its own blob and hands
+// back its own output blobs, so the back end copies each output once into the caller's buffer.
+// Net::forward is not re-entrant: invokes are serialised (the back end is not marked thread-safe).
 // custom= keys: Backend, Target, NumThreads (docs/backends/opencv.md).
 
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/dnn.hpp>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <string>
@@ -87,6 +89,37 @@ bool onnx_to_type(int32_t e, uint32_t &t) {
     default:
       return false;
   }
+}
+
+std::string trimmed(const std::string &s) {
+  const char *ws = " \t\r\n";
+  std::size_t b = s.find_first_not_of(ws);
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(ws) - b + 1);
+}
+
+// OpenCV 4.6 does not report a Darknet network's input shape, but the .cfg's [net] section
+// declares it: channels, height, width (OpenCV's defaults 3, 416, 416). The batch is 1.
+std::vector<int> darknet_input_shape(const std::string &cfg) {
+  int width = 416, height = 416, channels = 3;
+  std::ifstream f(cfg);
+  bool in_net = false;
+  for (std::string line; std::getline(f, line);) {
+    line = trimmed(line);
+    if (line.empty() || line[0] == '#' || line[0] == ';') continue;
+    if (line[0] == '[') {
+      in_net = line == "[net]";
+      continue;
+    }
+    std::size_t eq = line.find('=');
+    if (!in_net || eq == std::string::npos) continue;
+    std::string key = trimmed(line.substr(0, eq));
+    int value = std::atoi(trimmed(line.substr(eq + 1)).c_str());
+    if (key == "width") width = value;
+    if (key == "height") height = value;
+    if (key == "channels") channels = value;
+  }
+  return {1, channels, height, width};
 }
 
 struct Input {
@@ -271,10 +304,11 @@ class OpenCvFilter final : public FilterBackend {
       fail(std::string("cannot load the model: ") + e.what());
     }
     if (net_.empty()) fail("cannot load the model (OpenCV returned an empty network)");
+    if (we == ".weights") check_darknet_weights_size();
     net_.setPreferableBackend(backend);
     net_.setPreferableTarget(target);
 
-    read_declared_io(we);
+    read_declared_io(we, config);
     if (p.input && p.input->num_tensors) apply_input(*p.input, "input=");
     for (const auto &in : inputs_)
       if (!in.known)
@@ -285,8 +319,34 @@ class OpenCvFilter final : public FilterBackend {
     check_outputs(p.output);
   }
 
-  // What the model file declares: ONNX graph inputs/outputs, or the network's first input.
-  void read_declared_io(const std::string &ext) {
+  // OpenCV reads a Darknet .weights file without checking that it holds every value its .cfg
+  // needs: a short file gives a network of uninitialised weights. The file must hold the header
+  // (major, minor, revision, then "seen": 8 bytes from version 0.2 on, else 4) and one float32
+  // for every value of the layers' blobs (biases, batch-norm scales/means/variances, weights).
+  void check_darknet_weights_size() {
+    std::ifstream f(model_, std::ios::binary);
+    int32_t version[3] = {0, 0, 0};
+    f.read(reinterpret_cast<char *>(version), sizeof(version));
+    std::error_code ec;
+    auto size = std::filesystem::file_size(model_, ec);
+    if (!f || ec) fail("not a Darknet weights file (shorter than its 12-byte version header)");
+    std::size_t floats = 0;
+    try {
+      for (const auto &name : net_.getLayerNames())
+        for (const cv::Mat &b : net_.getLayer(net_.getLayerId(name))->blobs) floats += b.total();
+    } catch (const cv::Exception &e) {
+      fail(std::string("cannot list the network's weights: ") + e.what());
+    }
+    std::size_t need = 12 + (version[0] * 10 + version[1] >= 2 ? 8 : 4) + 4 * floats;
+    if (size < need)
+      fail("Darknet weights file has " + std::to_string(size) + " bytes, but its .cfg needs " +
+           std::to_string(need) + " (header and " + std::to_string(floats) +
+           " float32 values): truncated, or written for another .cfg");
+  }
+
+  // What the model file declares: ONNX graph inputs/outputs, the Darknet [net] input, or the
+  // network's first input.
+  void read_declared_io(const std::string &ext, const std::string &config) {
     if (ext == ".onnx") {
       onnx::GraphInfo g;
       try {
@@ -316,9 +376,13 @@ class OpenCvFilter final : public FilterBackend {
       Input in;
       in.desc.type = _NNS_FLOAT32;
       std::vector<cv::dnn::MatShape> ins, outs;
-      try {
-        net_.getLayerShapes(cv::dnn::MatShape(), 0, ins, outs);
-      } catch (const cv::Exception &) {
+      if (ext == ".weights") {
+        outs.push_back(darknet_input_shape(config));
+      } else {
+        try {
+          net_.getLayerShapes(cv::dnn::MatShape(), 0, ins, outs);
+        } catch (const cv::Exception &) {
+        }
       }
       if (outs.size() == 1 && !outs[0].empty()) {
         in.shape = outs[0];
