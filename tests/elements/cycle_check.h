@@ -2,10 +2,10 @@
 // Leak and hang checks for the stream-composition element tests.
 //
 // LiveObjects puts a probe on every pad of a pipeline (pads added later too) and a
-// GstMiniObject weak reference on every buffer, buffer memory and event that crosses one, so
-// it knows which of them have not been freed. After the pipeline is set to NULL nothing it saw
-// may still be alive: an element that keeps (or forgets to unref) a buffer, a memory or an
-// event shows up there, with where it was seen. No tracer is needed, so the check runs in
+// GstMiniObject weak reference on every buffer, buffer memory and event (either direction)
+// that crosses one, so it knows which of them have not been freed. After the pipeline is set
+// to NULL nothing it saw may still be alive: an element that keeps (or forgets to unref) a
+// buffer, a memory or an event shows up there, with where it was seen. No tracer is needed, so the check runs in
 // every build. LiveObjects.CountsWhatAnElementKeeps (cycle_check_test.cc) shows it can fail.
 //
 // state_cycles() drives PLAYING -> (feed) -> NULL cycles and checks after every NULL that no
@@ -134,7 +134,7 @@ class LiveObjects {
       track(st, GST_MINI_OBJECT_CAST(list), "buffer list at " + where);
       buffers = gst_buffer_list_length(list);
       for (guint i = 0; i < buffers; ++i) track_buffer(st, gst_buffer_list_get(list, i), where);
-    } else if (info->type & GST_PAD_PROBE_TYPE_EVENT_DOWNSTREAM) {
+    } else if (info->type & GST_PAD_PROBE_TYPE_EVENT_BOTH) {
       GstEvent *ev = GST_PAD_PROBE_INFO_EVENT(info);
       track(st, GST_MINI_OBJECT_CAST(ev),
             std::string(GST_EVENT_TYPE_NAME(ev)) + " event at " + where);
