@@ -8,6 +8,9 @@
 // buffer, a memory or an event shows up there, with where it was seen. No tracer is needed, so the check runs in
 // every build. LiveObjects.CountsWhatAnElementKeeps (cycle_check_test.cc) shows it can fail.
 //
+// End such pipelines in fakesink: appsink (GStreamer 1.22) keeps the buffer of the last sample
+// pulled from it after NULL (until the next sample or its disposal), which would be reported.
+//
 // state_cycles() drives PLAYING -> (feed) -> NULL cycles and checks after every NULL that no
 // object is alive; a cycle that does not finish within the timeout aborts the test binary with
 // the cycle number (a hang would otherwise only end at the ctest timeout).
