@@ -7,6 +7,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 #include "gst/tensor_caps.h"
 #include "tensor_filter_custom_easy.h"
@@ -198,6 +199,29 @@ TEST(TensorRate, ThrottleMakesAnUpstreamFilterSkipFrames) {
     }
   }
   EXPECT_EQ(NNS_custom_easy_unregister("flow_rate_count"), 0);
+}
+
+// 100 PLAYING<->NULL cycles of a 30 -> 10 fps conversion (throttle QoS going upstream): 7
+// frames give at least the outputs at 0 and 100 ms; odd cycles end with EOS. No hang, nothing
+// (buffers, events either way) left alive.
+TEST(TensorRate, HundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p("appsrc name=src ! tensor_rate name=rate framerate=10/1 ! fakesink name=out");
+  p.set_caps("src", static_caps("2", "uint8", "30/1"));
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t before = live.delivered("out");
+    for (int k = 0; k < 7; ++k)
+      p.push("src",
+             Frame({Bytes{static_cast<uint8_t>(k), 7}}, gst_util_uint64_scale(k, GST_SECOND, 30),
+                   gst_util_uint64_scale(1, GST_SECOND, 30)));
+    if (i % 2) {
+      p.eos("src");
+      std::string err;
+      EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+      EXPECT_TRUE(live.wait_delivered("out", before + 3)) << "cycle " << i;
+    } else {
+      EXPECT_TRUE(live.wait_delivered("out", before + 2)) << "cycle " << i;
+    }
+  });
 }
 
 TEST(TensorRate, PropertiesAsUpstream) {
