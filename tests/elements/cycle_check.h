@@ -5,8 +5,9 @@
 // GstMiniObject weak reference on every buffer, buffer memory and event (either direction)
 // that crosses one, so it knows which of them have not been freed. After the pipeline is set
 // to NULL nothing it saw may still be alive: an element that keeps (or forgets to unref) a
-// buffer, a memory or an event shows up there, with where it was seen. No tracer is needed, so the check runs in
-// every build. LiveObjects.CountsWhatAnElementKeeps (cycle_check_test.cc) shows it can fail.
+// buffer, a memory or an event shows up there, with where it was seen. No tracer is needed, so the
+// check runs in every build. LiveObjects.CountsWhatAnElementKeeps (cycle_check_test.cc) shows it
+// can fail.
 //
 // End such pipelines in fakesink: appsink (GStreamer 1.22) keeps the buffer of the last sample
 // pulled from it after NULL (until the next sample or its disposal), which would be reported.
