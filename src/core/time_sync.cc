@@ -133,9 +133,13 @@ SyncResult TimeSync::step(SyncInputs &in) {
         break;
     }
   }
-  if (mode_ == SyncMode::kRefresh)
+  if (mode_ == SyncMode::kRefresh) {
+    // Every pad ended, some of them without ever having data: no output can be built, and
+    // waiting for data would wait forever.
+    if (empty == n) return SyncResult::kEos;
     for (std::size_t i = 0; i < n; ++i)
       if (!in.last_pts(i)) return SyncResult::kNeedData;  // not every pad has data yet
+  }
   bool eos = mode_ == SyncMode::kRefresh ? empty == n : empty > 0;
   if (eos) return SyncResult::kEos;
   need_time_ = true;

@@ -170,15 +170,15 @@ TEST(TimeSync, RefreshOutputsOnEveryArrival) {
     uint64_t pts;
   };
   // The table of the upstream document: values are pad/arrival numbers, PTS grow.
-  std::vector<Arrival> arrivals = {{0, 0}, {1, 0}, {2, 0}, {1, 10}, {2, 20},
-                                   {2, 30}, {0, 40}, {2, 50}};
+  std::vector<Arrival> arrivals = {{0, 0},  {1, 0},  {2, 0},  {1, 10},
+                                   {2, 20}, {2, 30}, {0, 40}, {2, 50}};
   std::vector<Out> out;
   for (auto a : arrivals) {
     pads.streams_[a.pad].push_back(a.pts);
     if (sync.step(pads) == SyncResult::kOutput) out.push_back({sync.time(), pads.used()});
   }
   std::vector<Out> want = {
-      {0, {0, 0, 0}},   {10, {0, 10, 0}},  {20, {0, 10, 20}},
+      {0, {0, 0, 0}},    {10, {0, 10, 0}},   {20, {0, 10, 20}},
       {30, {0, 10, 30}}, {40, {40, 10, 30}}, {50, {40, 10, 50}},
   };
   EXPECT_EQ(out, want);
@@ -209,6 +209,18 @@ TEST(TimeSync, RefreshKeepsEarlyArrivalsOfLaterPads) {
   pads.streams_[0].push_back(4);
   EXPECT_EQ(sync.step(pads), SyncResult::kOutput);
   EXPECT_EQ(pads.used(), (std::vector<uint64_t>{4, 3}));
+}
+
+// A pad that ended without any data: once the other pad ended too the stream ends (a step
+// that neither outputs nor consumes would be called again forever).
+TEST(TimeSync, RefreshEndsWhenAPadEndedWithoutData) {
+  TimeSync sync(SyncMode::kRefresh, {});
+  FakePads pads({{}, {}});
+  pads.streams_[0].push_back(5);
+  EXPECT_EQ(sync.step(pads), SyncResult::kNeedData);
+  pads.streams_[0].push_back(7);
+  EXPECT_EQ(sync.step(pads), SyncResult::kNeedData);
+  EXPECT_EQ(sync.step(pads), SyncResult::kEos);  // both empty: pad 1 never had data
 }
 
 TEST(TimeSync, ResetRestartsTime) {

@@ -3,6 +3,7 @@
 // switching between pads, read-only properties, pad release.
 #include <gtest/gtest.h>
 
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 
 namespace {
@@ -95,6 +96,75 @@ TEST(Join, UnlinkedAndReleasedPadsDoNotHoldEos) {
   EXPECT_EQ(n, 1u);
   gst_object_unref(extra);
   gst_object_unref(join);
+}
+
+// sink_1's upstream never ends; releasing sink_1 while PLAYING lets sink_0's EOS through.
+TEST(Join, ReleasingAPadWhilePlayingLetsEosThrough) {
+  AppPipeline p(
+      "appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
+      "join name=join ! appsink name=out");
+  p.set_caps("a", static_caps("2", "uint8"));
+  p.set_caps("b", static_caps("2", "uint8"));
+  p.push("b", Frame({Bytes{1, 0}}, 0));
+  p.push("a", Frame({Bytes{0, 0}}, 0));
+  p.push("a", Frame({Bytes{0, 1}}, GST_MSECOND));
+  p.eos("a");
+  ASSERT_NE(gst_element_set_state(p.pipeline(), GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+  for (int k = 0; k < 5000 && p.frames("out").size() < 3; ++k) g_usleep(1000);
+  ASSERT_EQ(p.frames("out").size(), 3u);
+  GstBus *bus = gst_element_get_bus(p.pipeline());
+  GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_EOS);
+  EXPECT_EQ(m, nullptr) << "EOS while sink_1 is linked and not ended";
+  if (m) gst_message_unref(m);
+  gst_object_unref(bus);
+  GstElement *join = p.get("join");
+  GstPad *pad = gst_element_get_static_pad(join, "sink_1");
+  ASSERT_NE(pad, nullptr);
+  gst_element_release_request_pad(join, pad);
+  gst_object_unref(pad);
+  guint n = 0;
+  g_object_get(join, "n-pads", &n, nullptr);
+  EXPECT_EQ(n, 1u);
+  gst_object_unref(join);
+  auto r = p.run(10);
+  EXPECT_TRUE(r.eos) << r.error_text << (r.timed_out ? " timed out" : "");
+  auto out = p.frames("out");
+  ASSERT_EQ(out.size(), 3u);
+  int a = 0;
+  for (const auto &f : out) {
+    if (f.mems[0][0] == 0)
+      EXPECT_EQ(f.mems[0], (Bytes{0, static_cast<uint8_t>(a++)}));
+    else
+      EXPECT_EQ(f.mems[0], (Bytes{1, 0}));
+  }
+  EXPECT_EQ(a, 2);
+}
+
+// 100 PLAYING<->NULL cycles: both pads feed; sink_0 ends while sink_1 feeds (no EOS yet);
+// both end (EOS). No hang, nothing left alive.
+TEST(Join, HundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p(
+      "appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
+      "join name=join ! fakesink name=out");
+  p.set_caps("a", static_caps("2", "uint8"));
+  p.set_caps("b", static_caps("2", "uint8"));
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t before = live.delivered("out");
+    p.push("b", Frame({Bytes{1, 0}}, 0));
+    if (i % 3 == 1)
+      p.eos("a");
+    else
+      p.push("a", Frame({Bytes{0, 0}}, 0));
+    p.push("b", Frame({Bytes{1, 1}}, GST_MSECOND));
+    std::size_t want = before + (i % 3 == 1 ? 2 : 3);
+    if (i % 3 == 2) {
+      p.eos("a");
+      p.eos("b");
+      std::string err;
+      EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+    }
+    EXPECT_TRUE(live.wait_delivered("out", want)) << "cycle " << i;
+  });
 }
 
 TEST(Join, VideoSourcesThroughGstLaunch) {

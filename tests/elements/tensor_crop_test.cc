@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "core/meta_header.h"
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 
 namespace {
@@ -138,9 +139,97 @@ TEST(TensorCrop, MalformedInfoAndRawAreBusErrors) {
   ASSERT_TRUE(c.r.error);
   EXPECT_NE(c.r.error_text.find("info pad: flexible tensor memory of 16 bytes"), std::string::npos)
       << c.r.error_text;
+  // raw caps for two frames (144 bytes), buffer of one (72)
   c = run_crop(static_caps("3:6:4:2", "uint8"), {Frame({raw_frame()}, 0)},
                {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 0)});
   ASSERT_TRUE(c.r.error);
+  EXPECT_NE(c.r.error_text.find("crop: raw tensor has 72 bytes, expected 144 for uint8 3:6:4:2"),
+            std::string::npos)
+      << c.r.error_text;
+  // right size, but not one NHWC frame
+  Bytes two = raw_frame();
+  two.insert(two.end(), two.begin(), two.end());
+  c = run_crop(static_caps("3:6:4:2", "uint8"), {Frame({two}, 0)},
+               {Frame({info_of<uint32_t>({0, 0, 1, 1})}, 0)});
+  ASSERT_TRUE(c.r.error);
+  EXPECT_NE(c.r.error_text.find("crop: raw tensor uint8 3:6:4:2 is not one NHWC frame "
+                                "(channel:width:height:1)"),
+            std::string::npos)
+      << c.r.error_text;
+}
+
+// Regions {i, 0, 1, 1} for frame i (i = 0..n-1), raw and info at the same PTS.
+std::vector<Frame> raw_frames(int n) {
+  std::vector<Frame> v;
+  for (int i = 0; i < n; ++i) v.push_back(Frame({raw_frame()}, i * 10 * GST_MSECOND));
+  return v;
+}
+std::vector<Frame> info_frames(int n) {
+  std::vector<Frame> v;
+  for (int i = 0; i < n; ++i)
+    v.push_back(Frame({info_of<uint32_t>({uint32_t(i), 0, 1, 1})}, i * 10 * GST_MSECOND));
+  return v;
+}
+
+void expect_first_pairs(const std::vector<Frame> &out, std::size_t n) {
+  ASSERT_EQ(out.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(out[i].pts, i * 10 * GST_MSECOND);
+    ASSERT_EQ(out[i].mems.size(), 1u);
+    expect_region(out[i].mems[0], int(i), 0, 1, 1);
+  }
+}
+
+// EOS on info after 2 regions while raw still has 20 frames: the 2 pairs are cropped, then the
+// stream ends (raw's producer gets EOS back) instead of waiting for info forever.
+TEST(TensorCrop, EosOnInfoWhileRawFlowsEndsTheStream) {
+  auto c = run_crop(static_caps("3:6:4:1", "uint8", "100/1"), raw_frames(20), info_frames(2));
+  ASSERT_TRUE(c.r.eos) << (c.r.timed_out ? "timed out" : c.r.error_text);
+  expect_first_pairs(c.out, 2);
+}
+
+TEST(TensorCrop, EosOnRawWhileInfoFlowsEndsTheStream) {
+  auto c = run_crop(static_caps("3:6:4:1", "uint8", "100/1"), raw_frames(3), info_frames(20));
+  ASSERT_TRUE(c.r.eos) << (c.r.timed_out ? "timed out" : c.r.error_text);
+  expect_first_pairs(c.out, 3);
+}
+
+// 100 PLAYING<->NULL cycles: two pairs cropped; raw without info (stop while waiting); EOS on
+// info while raw flows; EOS on raw while info flows. No hang, nothing left alive.
+TEST(TensorCrop, HundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p(
+      "appsrc name=raw ! crop.raw appsrc name=info ! crop.info tensor_crop name=crop "
+      "! fakesink name=out");
+  p.set_caps("raw", static_caps("3:6:4:1", "uint8", "100/1"));
+  p.set_caps("info", kFlex);
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t before = live.delivered("out");
+    auto raw = raw_frames(3), info = info_frames(3);
+    std::string err;
+    switch (i % 4) {
+      case 0:
+        for (int k = 0; k < 2; ++k) p.push("raw", raw[k]), p.push("info", info[k]);
+        EXPECT_TRUE(live.wait_delivered("out", before + 2)) << "cycle " << i;
+        break;
+      case 1:
+        for (const auto &f : raw) p.push("raw", f);
+        break;
+      case 2:
+        for (const auto &f : raw) p.push("raw", f);
+        p.push("info", info[0]);
+        p.eos("info");
+        EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+        EXPECT_EQ(live.delivered("out"), before + 1) << "cycle " << i;
+        break;
+      case 3:
+        p.push("raw", raw[0]);
+        p.eos("raw");
+        for (const auto &f : info) p.push("info", f);
+        EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+        EXPECT_EQ(live.delivered("out"), before + 1) << "cycle " << i;
+        break;
+    }
+  });
 }
 
 TEST(TensorCrop, LatenessDropsTheOlderBuffer) {

@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "core/meta_header.h"
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 
 namespace {
@@ -169,6 +170,26 @@ TEST(TensorDebug, OutputMethods) {
                 static_frames());
   EXPECT_TRUE(c.out.empty() && c.err.empty() && c.gst.empty());
   EXPECT_EQ(c.frames.size(), 3u);
+}
+
+// 100 PLAYING<->NULL cycles logging caps and timestamps of every frame (to the GStreamer
+// debug log, below its threshold); odd cycles end with EOS. No hang, nothing left alive.
+TEST(TensorDebug, HundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p(
+      "appsrc name=src ! tensor_debug name=dbg capability=always metadata=timestamp "
+      "output-method=gstdebug-info ! fakesink name=out");
+  p.set_caps("src", kCaps);
+  auto in = static_frames();
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t before = live.delivered("out");
+    for (const auto &f : in) p.push("src", f);
+    if (i % 2) {
+      p.eos("src");
+      std::string err;
+      EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+    }
+    EXPECT_TRUE(live.wait_delivered("out", before + in.size())) << "cycle " << i;
+  });
 }
 
 TEST(TensorDebug, FlagAndEnumTypesAsUpstream) {

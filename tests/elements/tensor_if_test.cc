@@ -4,6 +4,7 @@
 // bus errors for options that disagree with the input.
 #include <gtest/gtest.h>
 
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 #include "tensor_if.h"
 
@@ -273,6 +274,29 @@ TEST(TensorIf, BranchWithoutDataDoesNotBlockPrerollOrEos) {
       "tif.src_1 ! queue ! fakesink sync=true",
       10);
   EXPECT_TRUE(r.eos) << r.error_text << (r.timed_out ? " (timed out)" : "");
+}
+
+// 100 PLAYING<->NULL cycles with a frame for each branch (then passes it through, else picks
+// tensor 1); odd cycles end with EOS. No hang, nothing left alive.
+TEST(TensorIf, HundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p(
+      "appsrc name=src ! tensor_if name=tif compared-value-option=0:0:0:0,0 operator=LT "
+      "supplied-value=3 then=PASSTHROUGH else=TENSORPICK else-option=1 "
+      "tif.src_0 ! queue ! fakesink name=then tif.src_1 ! queue ! fakesink name=else");
+  p.set_caps("src", static_caps("4,2", "uint8,float32", "10/1"));
+  auto in = frames();
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t t = live.delivered("then"), e = live.delivered("else");
+    p.push("src", in[1]);
+    p.push("src", in[7]);
+    if (i % 2) {
+      p.eos("src");
+      std::string err;
+      EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+    }
+    EXPECT_TRUE(live.wait_delivered("then", t + 1)) << "cycle " << i;
+    EXPECT_TRUE(live.wait_delivered("else", e + 1)) << "cycle " << i;
+  });
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 #include "gst/tensor_caps.h"
 #include "tensor_filter_custom_easy.h"
@@ -167,6 +168,14 @@ int count_copy(void *, const GstTensorFilterProperties *, const GstTensorMemory 
 
 // tensor_filter honours the THROTTLE QoS: with throttle=true it skips the frames tensor_rate
 // would drop (30 fps in, 10 fps out), with throttle=false it runs on every frame.
+// Deterministic: appsrc, filter and tensor_rate run in one streaming thread (no queue), so the
+// QoS event reaches the filter before its next frame, and the filter's skipping depends only on
+// PTS (its latency property is off, so the measured invoke time plays no part). Frame k has
+// PTS k/30 s. The filter runs f0, f1, f2 unthrottled; tensor_rate drops f1 when f2 arrives
+// (f2 is nearer the 100 ms slot) and sends THROTTLE with diff 99.9 ms. From then on the filter
+// runs a frame when at least 99.9 ms of PTS passed since the last one it ran: f3 (its first
+// frame with a delay set), f6, f9, ..., f27. 4 + 8 = 12 invocations; tensor_rate outputs frames
+// 0, 3, ..., 27 at 0, 100, ..., 900 ms (f27 at EOS), 10 buffers.
 TEST(TensorRate, ThrottleMakesAnUpstreamFilterSkipFrames) {
   GstTensorsInfo info{};
   info.num_tensors = 1;
@@ -188,16 +197,40 @@ TEST(TensorRate, ThrottleMakesAnUpstreamFilterSkipFrames) {
     p.eos("src");
     auto r = p.run(10);
     ASSERT_TRUE(r.eos) << r.error_text;
-    if (throttle) {
-      EXPECT_LE(g_invocations.load(), 14) << "filter was not throttled";
-      EXPECT_GE(g_invocations.load(), 9);
-      EXPECT_GE(p.frames("out").size(), 9u);
-    } else {
-      EXPECT_EQ(g_invocations.load(), 30);
-      EXPECT_EQ(p.frames("out").size(), 11u);  // the filter keeps 30/1; tensor_rate makes 10/1
+    auto out = p.frames("out");
+    // Without throttling: 30 invocations and frames 0, 3, ..., 27, then 29 at 1.0 s (EOS).
+    EXPECT_EQ(g_invocations.load(), throttle ? 12 : 30);
+    ASSERT_EQ(out.size(), throttle ? 10u : 11u);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      uint8_t frame = k < 10 ? static_cast<uint8_t>(3 * k) : 29;
+      EXPECT_EQ(out[k].mems, std::vector<Bytes>{(Bytes{frame, 0})}) << k;
+      EXPECT_EQ(out[k].pts, k * 100 * GST_MSECOND) << k;
     }
   }
   EXPECT_EQ(NNS_custom_easy_unregister("flow_rate_count"), 0);
+}
+
+// 100 PLAYING<->NULL cycles of a 30 -> 10 fps conversion (throttle QoS going upstream): 7
+// frames give at least the outputs at 0 and 100 ms; odd cycles end with EOS. No hang, nothing
+// (buffers, events either way) left alive.
+TEST(TensorRate, HundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p("appsrc name=src ! tensor_rate name=rate framerate=10/1 ! fakesink name=out");
+  p.set_caps("src", static_caps("2", "uint8", "30/1"));
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t before = live.delivered("out");
+    for (int k = 0; k < 7; ++k)
+      p.push("src",
+             Frame({Bytes{static_cast<uint8_t>(k), 7}}, gst_util_uint64_scale(k, GST_SECOND, 30),
+                   gst_util_uint64_scale(1, GST_SECOND, 30)));
+    if (i % 2) {
+      p.eos("src");
+      std::string err;
+      EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+      EXPECT_TRUE(live.wait_delivered("out", before + 3)) << "cycle " << i;
+    } else {
+      EXPECT_TRUE(live.wait_delivered("out", before + 2)) << "cycle " << i;
+    }
+  });
 }
 
 TEST(TensorRate, PropertiesAsUpstream) {

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/sparse.h"
+#include "elements/cycle_check.h"
 #include "elements/flow_harness.h"
 
 namespace {
@@ -136,6 +137,25 @@ TEST(TensorSparseEnc, WrongBufferSizeIsABusError) {
   EXPECT_NE(r.error_text.find("enc: tensor 0 has 12 bytes, expected 16 for float32 4"),
             std::string::npos)
       << r.error_text;
+}
+
+// 100 PLAYING<->NULL cycles of tensor_sparse_enc ! tensor_sparse_dec; odd cycles end with EOS.
+// No hang, nothing left alive.
+TEST(TensorSparseEnc, EncDecHundredPlayingNullCyclesNoHangNoLeak) {
+  AppPipeline p("appsrc name=src ! tensor_sparse_enc ! tensor_sparse_dec ! fakesink name=out");
+  p.set_caps("src", static_caps("4:2,3", "int16,uint8", "30/1"));
+  std::vector<int16_t> dense{0, 5, 0, 0, -3, 0, 0, 7};
+  nns::test::state_cycles(p.pipeline(), 100, [&](int i, nns::test::LiveObjects &live) {
+    std::size_t before = live.delivered("out");
+    p.push("src", {{nns::test::bytes_of(dense), Bytes{0, 1, 0}}, 0});
+    p.push("src", {{nns::test::bytes_of(dense), Bytes{2, 0, 0}}, 33 * GST_MSECOND});
+    if (i % 2) {
+      p.eos("src");
+      std::string err;
+      EXPECT_TRUE(nns::test::wait_eos(p.pipeline(), 10, &err)) << "cycle " << i << ": " << err;
+    }
+    EXPECT_TRUE(live.wait_delivered("out", before + 2)) << "cycle " << i;
+  });
 }
 
 TEST(TensorSparseEnc, PropertiesAsUpstream) {

@@ -69,15 +69,17 @@ nns::TensorsConfig mux_configure(GstTensorSync *base, const std::vector<nns::Ten
   nns::TensorsConfig out;
   bool flexible = false;
   std::size_t total = 0;
+  std::string per_pad;
   for (std::size_t i = 0; i < in.size(); ++i) {
     if (in[i].info.format == nns::TensorFormat::kFlexible) flexible = true;
     total += in[i].info.size();
+    per_pad += (i ? ", " : "") + (i < names.size() ? names[i] : "sink pad " + std::to_string(i)) +
+               ": " + std::to_string(in[i].info.size());
   }
   if (total > nns::kTensorLimit)
     nns::fail(nns::ErrorKind::kNegotiation,
-              "the sink pads carry " + std::to_string(total) + " tensors in all, more than " +
-                  std::to_string(nns::kTensorLimit) + " (last pad " +
-                  (names.empty() ? std::string("?") : names.back()) + ")");
+              "the sink pads carry " + std::to_string(total) + " tensors in all (" + per_pad +
+                  "), more than the limit of " + std::to_string(nns::kTensorLimit));
   if (flexible) {
     out.info.format = nns::TensorFormat::kFlexible;
   } else {
