@@ -31,6 +31,12 @@ std::string join_models(const std::vector<std::string> &m) {
   return s;
 }
 
+// Names alone (inputname= without input=) go only to back ends that pick tensors by name.
+TensorsInfo for_backend(const TensorsInfo &info, uint32_t flags) {
+  if (!(flags & NNS_FILTER_FLAG_TENSOR_NAMES) && names_only(info)) return TensorsInfo{};
+  return info;
+}
+
 // nns_filter_props plus the storage its pointers refer to.
 struct PropsHolder {
   nns_filter_props p{};
@@ -38,9 +44,9 @@ struct PropsHolder {
   std::unique_ptr<nns_tensors_desc> in, out;
   std::array<tensor_layout, NNS_TENSOR_SIZE_LIMIT> il{}, ol{};
 
-  PropsHolder(const std::string &fw, const FilterOpenSpec &s,
+  PropsHolder(const std::string &fw, uint32_t flags, const FilterOpenSpec &s,
               const std::vector<std::string> &models)
-      : in(make_desc(s.input)), out(make_desc(s.output)) {
+      : in(make_desc(for_backend(s.input, flags))), out(make_desc(for_backend(s.output, flags))) {
     for (const auto &m : models) files.push_back(m.c_str());
     files.push_back(nullptr);
     for (std::size_t i = 0; i < il.size(); ++i) {
@@ -70,6 +76,13 @@ std::string shared_map_key(const std::string &key, const std::string &fw,
 }
 
 }  // namespace
+
+bool names_only(const TensorsInfo &info) {
+  if (info.size() == 0) return false;
+  for (const auto &t : info.tensors)
+    if (t.type != TensorType::kEnd || t.rank() != 0) return false;
+  return true;
+}
 
 FilterSession::~FilterSession() {
   be_->close(priv_);
@@ -123,7 +136,7 @@ void FilterInstance::check_models(const std::vector<std::string> &models) const 
 std::shared_ptr<FilterSession> FilterInstance::open_session(
     const std::vector<std::string> &models) {
   check_models(models);
-  PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, spec_, models);
+  PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, be_->flags, spec_, models);
   char err[kErrLen];
   err[0] = '\0';
   void *priv = nullptr;
@@ -295,7 +308,7 @@ void FilterInstance::reload(const std::vector<std::string> &models) {
     check_models(models);
     FilterOpenSpec s = spec_;
     s.models = models;
-    PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, s, models);
+    PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, be_->flags, s, models);
     char err[kErrLen];
     err[0] = '\0';
     int rc = be_->reload(session_->priv(), &props.p, err, sizeof err);

@@ -26,11 +26,16 @@
 
 namespace nns {
 
+// True when `info` holds tensor names only (inputname= without input=/inputtype=).
+bool names_only(const TensorsInfo &info);
+
 struct FilterOpenSpec {
   std::string framework;  // framework= as given ("auto", an alias or a name)
   std::vector<std::string> models;
-  TensorsInfo input;   // from input=/inputtype=/inputname=; empty when not given
-  TensorsInfo output;  // from output=/outputtype=/outputname=
+  // From input=/inputtype=/inputname=; empty when not given; names only (type kEnd, no dims)
+  // for inputname= alone, which reaches only NNS_FILTER_FLAG_TENSOR_NAMES back ends.
+  TensorsInfo input;
+  TensorsInfo output;  // from output=/outputtype=/outputname=, the same way
   std::string custom;
   std::string accelerator;
   std::vector<tensor_layout> input_layout;  // empty: ANY

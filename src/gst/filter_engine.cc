@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/filter_desc.h"
 #include "core/filter_registry.h"
+#include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"
 #include "gst/tensor_caps.h"
@@ -105,6 +106,15 @@ void FilterEngine::open(const FilterSettings &s) {
                                    std::string(be.iface->name) +
                                    "' does not support dynamic invoke");
   inst_ = FilterInstance::acquire(be, spec);
+  if (!(inst_->flags() & NNS_FILTER_FLAG_TENSOR_NAMES))
+    for (const char *prop : {"inputname", "outputname"}) {
+      const TensorsInfo &given = prop[0] == 'i' ? spec.input : spec.output;
+      if (names_only(given))
+        NNS_POST_WARNING(element_, std::string(prop) + "='" +
+                                       (prop[0] == 'i' ? s.inputname : s.outputname) +
+                                       "' is ignored: framework '" + inst_->name() +
+                                       "' does not pick tensors by name");
+    }
   allocate_in_invoke_ = (inst_->flags() & NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE) != 0;
   check_model_shapes();
   stats_.reset();
@@ -124,6 +134,10 @@ void FilterEngine::check_model_shapes() {
   model_out_known_ = known && mo.size() > 0 && mo.valid();
   TensorsInfo pin = settings_.shared_key.empty() ? spec.input : make_open_spec(settings_).input;
   TensorsInfo pout = settings_.shared_key.empty() ? spec.output : make_open_spec(settings_).output;
+  // inputname=/outputname= alone pick tensors (the model's shapes already reflect the choice);
+  // they describe no shapes to check.
+  if (names_only(pin)) pin = TensorsInfo{};
+  if (names_only(pout)) pout = TensorsInfo{};
   if (pin.size() && model_in_known_ && !pin.same_as(mi))
     fail(ErrorKind::kNegotiation, where() + ": input='" + settings_.input + "' inputtype='" +
                                       settings_.inputtype + "' gives " + pin.to_string() +
