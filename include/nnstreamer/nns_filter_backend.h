@@ -113,7 +113,10 @@ typedef struct nns_filter_backend_i {
                         nns_tensors_desc *out_info, GstTensorMemory *out, char *err,
                         size_t errlen);
 
-  /* Reloads the model from props->model_files (is-updatable). May be NULL. */
+  /* Reloads the model from props->model_files; on failure the current model must stay. May be
+   * NULL. tensor_filter's is-updatable does not call it: it opens the new model with open()
+   * beside the old one, checks its tensors and only then swaps (see docs/elements/
+   * tensor_filter.md, Reload). */
   int (*reload)(void *priv, const nns_filter_props *props, char *err, size_t errlen);
   /* Suspend/resume and future events; -ENOTSUP when unhandled. May be NULL. */
   int (*handle_event)(void *priv, nns_filter_event event, char *err, size_t errlen);

@@ -30,6 +30,12 @@ GstCaps *with_flexible(GstCaps *caps, int rate_n, int rate_d) {
   return caps;
 }
 
+std::string join(const std::vector<std::string> &v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
+  return s;
+}
+
 TensorsInfo as_static(TensorsInfo i) {
   i.format = TensorFormat::kStatic;
   return i;
@@ -167,20 +173,38 @@ void FilterEngine::close() {
 
 void FilterEngine::reload(const std::vector<std::string> &models) {
   if (!inst_) return;
-  inst_->reload(models);
-  TensorsInfo mi, mo;
-  if (inst_->model_info(mi, mo) && configured_ && !invoke_dynamic_) {
-    mi = as_static(mi);
-    mo = as_static(mo);
-    if (mi.size() && mi.valid() && !mi.same_as(model_in_))
-      fail(ErrorKind::kNegotiation, where() + ": the reloaded model's input " + mi.to_string() +
-                                        " differs from the negotiated input " +
-                                        model_in_.to_string());
-    if (mo.size() && mo.valid() && !mo.same_as(model_out_))
-      fail(ErrorKind::kNegotiation, where() + ": the reloaded model's output " + mo.to_string() +
-                                        " differs from the negotiated output " +
-                                        model_out_.to_string());
+  FilterInstance::ReloadCheck check;
+  if (configured_ && !invoke_dynamic_) {
+    // The stream's caps stay as negotiated: the new model must take and give the same tensors.
+    check = [&](const FilterInstance::ReloadProbe &probe) {
+      std::string what = "framework '" + inst_->name() + "': model '" + join(models) +
+                         "' cannot replace model '" + join(inst_->spec().models) + "': ";
+      TensorsInfo mi, mo;
+      bool known = probe.model_info(mi, mo);
+      mi = as_static(mi);
+      mo = as_static(mo);
+      bool in_known = known && mi.size() && mi.valid();
+      bool out_known = known && mo.size() && mo.valid();
+      if (in_known && !mi.same_as(model_in_))
+        fail(ErrorKind::kNegotiation, what + "the reloaded model's input " + mi.to_string() +
+                                          " differs from the negotiated input " +
+                                          model_in_.to_string());
+      if (!(in_known && out_known)) {
+        // As configure(): a model that does not tell its shapes learns the negotiated input.
+        TensorsInfo computed;
+        if (probe.set_input_info(model_in_, computed)) {
+          computed = as_static(computed);
+          if (computed.size() && computed.valid() && !out_known) mo = computed;
+          out_known = out_known || (computed.size() && computed.valid());
+        }
+      }
+      if (out_known && !mo.same_as(model_out_))
+        fail(ErrorKind::kNegotiation, what + "the reloaded model's output " + mo.to_string() +
+                                          " differs from the negotiated output " +
+                                          model_out_.to_string());
+    };
   }
+  inst_->reload(models, check);
 }
 
 TensorsInfo FilterEngine::current_input() const {

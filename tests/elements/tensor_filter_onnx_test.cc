@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_filter with ONNX Runtime on the generated models (tests/data/generate_models.py):
 // inputname=/outputname= picking tensors by name, framework=auto and framework_priority_onnx on
-// a real .onnx. Skipped when the onnxruntime back end or the generated models are missing.
+// a real .onnx, and is-updatable reloads of real models. Skipped when the onnxruntime back end
+// or the generated models are missing.
 #include <filesystem>
 
 #include "backends/backend_loader.h"
@@ -170,4 +171,49 @@ TEST_F(OnnxFilter, AutoFollowsFrameworkPriorityOnnx) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("framework 'opencv', model '" + model() + "'"), std::string::npos)
       << r.error_text;
+}
+
+// --- is-updatable with real models ----------------------------------------------------------
+
+TEST_F(OnnxFilter, ReloadSwapsToAnotherModelOfTheSameTensors) {
+  std::string dir = make_temp_dir(), copy = dir + "/copy.onnx";
+  std::filesystem::copy_file(model(), copy);
+  FilterHarness fh(
+      "tensor_filter framework=onnxruntime is-updatable=true outputname=diff model=" + model(),
+      caps());
+  auto out = push_pull(fh);
+  ASSERT_EQ(out.size(), 1u);
+  expect_ref(out[0], 0);
+  g_object_set(fh.element(), "model", copy.c_str(), nullptr);
+  EXPECT_EQ(fh.warning_text(), "");
+  out = push_pull(fh);
+  ASSERT_EQ(out.size(), 1u);
+  expect_ref(out[0], 0);  // outputname= still applies to the new model
+  gchar *m = nullptr;
+  g_object_get(fh.element(), "model", &m, nullptr);
+  EXPECT_EQ(std::string(m), copy);
+  g_free(m);
+  EXPECT_EQ(fh.error_text(), "");
+  std::filesystem::remove_all(dir);
+}
+
+// add_mul takes 4:3:1 tensors: refused, and sub_scale goes on answering.
+TEST_F(OnnxFilter, ReloadToContradictingModelKeepsTheOldOne) {
+  auto other = load_ref("add_mul");
+  ASSERT_TRUE(other);
+  FilterHarness fh("tensor_filter framework=onnxruntime is-updatable=true model=" + model(),
+                   caps());
+  auto out = push_pull(fh);
+  ASSERT_EQ(out.size(), 3u);
+  g_object_set(fh.element(), "model", other->file("onnx").c_str(), nullptr);
+  std::string w = fh.warning_text();
+  EXPECT_NE(w.find("reload refused, still running model '" + model() + "'"), std::string::npos)
+      << w;
+  EXPECT_NE(w.find("model '" + other->file("onnx") + "' cannot replace"), std::string::npos) << w;
+  EXPECT_NE(w.find("float32 4:3:1"), std::string::npos) << w;
+  EXPECT_NE(w.find("float32 3:2:1"), std::string::npos) << w;
+  out = push_pull(fh);
+  ASSERT_EQ(out.size(), 3u);
+  for (std::size_t o = 0; o < 3; ++o) expect_ref(out[o], o);
+  EXPECT_EQ(fh.error_text(), "");
 }
