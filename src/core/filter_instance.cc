@@ -134,6 +134,9 @@ void FilterInstance::check_models(const std::vector<std::string> &models) const 
     if (::stat(m.c_str(), &st) != 0)
       fail(ErrorKind::kNotFound, "framework '" + name_ + "': model file '" + m +
                                      "' does not exist (" + std::strerror(errno) + ")");
+    if (S_ISDIR(st.st_mode))
+      fail(ErrorKind::kNotFound,
+           "framework '" + name_ + "': model file '" + m + "' is a directory, not a model file");
     if (::access(m.c_str(), R_OK) != 0)
       fail(ErrorKind::kNotFound, "framework '" + name_ + "': model file '" + m +
                                      "' is not readable (" + std::strerror(errno) + ")");
