@@ -14,6 +14,7 @@
 # into third_party/demo/, nothing installed).
 # exit: 0 ok, 77 skipped (an element the demo needs is not built yet), other = failure.
 #       With NNS_FACE_SKIP_MISSING=1 (ctest) a face demo without its model counts as skipped.
+#       With CI=true nothing is skipped: a missing element, model or back end is a failure.
 set -euo pipefail
 # shellcheck source=examples/common.sh
 . "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
@@ -43,19 +44,29 @@ mkdir -p "$out_dir"
 out=$out_dir/$(basename "${image%.*}").rgb224.f32
 rm -f "$out"
 echo "run_demo: image $image"
-"$DEMO_BIN" --image "$image" --output "$out" || exit $?
+rc=0
+"$DEMO_BIN" --image "$image" --output "$out" || rc=$?
+if ((rc == 77)) && nns_ci; then
+  nns_die 1 "CI=true: the demo may not be skipped (an element it needs is not built)"
+fi
+((rc == 0)) || exit $rc
 
 echo
 echo "run_demo: face detection with BlazeFace on ONNX Runtime (examples/face_demo/run.sh)"
 rc=0
 bash "$ROOT/examples/face_demo/run.sh" ${face_photo:+"$face_photo"} || rc=$?
-if ((rc == 77)); then
+if ((rc == 77)) && nns_ci; then
+  nns_die 1 "CI=true: the real inference may not be skipped (see the reason above)"
+elif ((rc == 77)); then
   echo "run_demo: face demo skipped (see the reason above)"
   rc=0
 elif ((rc == 0)); then
   echo
   echo "run_demo: the same with tensor_decoder mode=bounding_boxes drawing the boxes (examples/face_demo/boxes.sh)"
   bash "$ROOT/examples/face_demo/boxes.sh" ${face_photo:+"$face_photo"} || rc=$?
+  if ((rc == 77)) && nns_ci; then
+    nns_die 1 "CI=true: the boxes demo may not be skipped (see the reason above)"
+  fi
   ((rc != 77)) || rc=0
 fi
 exit $rc

@@ -51,8 +51,11 @@ typedef struct {
   const char *framework;          /* the framework= name the user asked for */
   const char *const *model_files; /* model= split on ',' */
   uint32_t num_models;
-  const nns_tensors_desc *input;  /* from input=/inputtype=/inputname=, or num_tensors 0 */
-  const nns_tensors_desc *output; /* from output=/outputtype=/outputname=, or num_tensors 0 */
+  /* From input=/inputtype=/inputname= (output=/...), or num_tensors 0. With
+   * NNS_FILTER_FLAG_TENSOR_NAMES a set may carry names only (inputname= alone: every type
+   * _NNS_END, every dim 0); other back ends never see such a set. */
+  const nns_tensors_desc *input;
+  const nns_tensors_desc *output;
   const char *custom;             /* custom= "key:value,key:value" or NULL */
   const char *accelerator;        /* accelerator= or NULL */
   const tensor_layout *input_layout;  /* NNS_TENSOR_SIZE_LIMIT entries */
@@ -72,6 +75,7 @@ enum {
   NNS_FILTER_FLAG_THREAD_SAFE = 1u << 1,        /* invoke may run concurrently */
   NNS_FILTER_FLAG_RUN_WITHOUT_MODEL = 1u << 2,  /* model= is a name, not a file */
   NNS_FILTER_FLAG_DYNAMIC = 1u << 3,            /* supports invoke_dynamic */
+  NNS_FILTER_FLAG_TENSOR_NAMES = 1u << 4,       /* picks tensors by inputname=/outputname= */
 };
 
 typedef struct nns_filter_backend_i {
@@ -109,7 +113,10 @@ typedef struct nns_filter_backend_i {
                         nns_tensors_desc *out_info, GstTensorMemory *out, char *err,
                         size_t errlen);
 
-  /* Reloads the model from props->model_files (is-updatable). May be NULL. */
+  /* Reloads the model from props->model_files; on failure the current model must stay. May be
+   * NULL. tensor_filter's is-updatable does not call it: it opens the new model with open()
+   * beside the old one, checks its tensors and only then swaps (see docs/elements/
+   * tensor_filter.md, Reload). */
   int (*reload)(void *priv, const nns_filter_props *props, char *err, size_t errlen);
   /* Suspend/resume and future events; -ENOTSUP when unhandled. May be NULL. */
   int (*handle_event)(void *priv, nns_filter_event event, char *err, size_t errlen);

@@ -13,6 +13,13 @@ std::size_t desc_rank(const nns_tensor_desc &d) {
   return r;
 }
 
+bool desc_names_only(const nns_tensors_desc &d) {
+  if (d.num_tensors == 0 || d.num_tensors > NNS_TENSOR_SIZE_LIMIT) return false;
+  for (uint32_t i = 0; i < d.num_tensors; ++i)
+    if (d.tensors[i].type < _NNS_END || desc_rank(d.tensors[i]) != 0) return false;
+  return true;
+}
+
 TensorType desc_type(const nns_tensor_desc &d) {
   return d.type < kNumTypes ? static_cast<TensorType>(d.type) : TensorType::kEnd;
 }

@@ -22,6 +22,9 @@ void set_dims(nns_tensor_desc &d, const std::vector<int64_t> &shape, uint32_t fr
 // Bytes of one tensor (0 if the type is unknown or the rank is 0).
 std::size_t desc_bytes(const nns_tensor_desc &d);
 std::size_t desc_rank(const nns_tensor_desc &d);
+// Names only (inputname= alone; NNS_FILTER_FLAG_TENSOR_NAMES back ends): every tensor has no
+// type and no dims. False for an empty set.
+bool desc_names_only(const nns_tensors_desc &d);
 // Whether the dims equal with trailing 1s ignored.
 bool desc_dims_equal(const nns_tensor_desc &a, const nns_tensor_desc &b);
 // "float32 4:3:1" / "'name' float32 4:3:1" when named and with_name.

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <utility>
 
 #include "core/error.h"
 #include "core/filter_desc.h"
@@ -31,6 +32,12 @@ std::string join_models(const std::vector<std::string> &m) {
   return s;
 }
 
+// Names alone (inputname= without input=) go only to back ends that pick tensors by name.
+TensorsInfo for_backend(const TensorsInfo &info, uint32_t flags) {
+  if (!(flags & NNS_FILTER_FLAG_TENSOR_NAMES) && names_only(info)) return TensorsInfo{};
+  return info;
+}
+
 // nns_filter_props plus the storage its pointers refer to.
 struct PropsHolder {
   nns_filter_props p{};
@@ -38,9 +45,9 @@ struct PropsHolder {
   std::unique_ptr<nns_tensors_desc> in, out;
   std::array<tensor_layout, NNS_TENSOR_SIZE_LIMIT> il{}, ol{};
 
-  PropsHolder(const std::string &fw, const FilterOpenSpec &s,
+  PropsHolder(const std::string &fw, uint32_t flags, const FilterOpenSpec &s,
               const std::vector<std::string> &models)
-      : in(make_desc(s.input)), out(make_desc(s.output)) {
+      : in(make_desc(for_backend(s.input, flags))), out(make_desc(for_backend(s.output, flags))) {
     for (const auto &m : models) files.push_back(m.c_str());
     files.push_back(nullptr);
     for (std::size_t i = 0; i < il.size(); ++i) {
@@ -71,6 +78,13 @@ std::string shared_map_key(const std::string &key, const std::string &fw,
 
 }  // namespace
 
+bool names_only(const TensorsInfo &info) {
+  if (info.size() == 0) return false;
+  for (const auto &t : info.tensors)
+    if (t.type != TensorType::kEnd || t.rank() != 0) return false;
+  return true;
+}
+
 FilterSession::~FilterSession() {
   be_->close(priv_);
 }
@@ -99,10 +113,16 @@ std::string FilterInstance::describe() const {
 }
 
 void FilterInstance::raise(const std::string &what, int rc, const char *err) const {
+  raise(spec_.models, what, rc, err);
+}
+
+void FilterInstance::raise(const std::vector<std::string> &models, const std::string &what, int rc,
+                           const char *err) const {
   std::string cause = err && *err ? std::string(err)
                                   : std::string("error ") + std::to_string(rc) + " (" +
                                         std::strerror(rc < 0 ? -rc : rc) + ")";
-  fail(ErrorKind::kLibrary, describe() + ": " + what + ": " + cause);
+  fail(ErrorKind::kLibrary,
+       "framework '" + name_ + "', model '" + join_models(models) + "': " + what + ": " + cause);
 }
 
 void FilterInstance::check_models(const std::vector<std::string> &models) const {
@@ -114,6 +134,9 @@ void FilterInstance::check_models(const std::vector<std::string> &models) const 
     if (::stat(m.c_str(), &st) != 0)
       fail(ErrorKind::kNotFound, "framework '" + name_ + "': model file '" + m +
                                      "' does not exist (" + std::strerror(errno) + ")");
+    if (S_ISDIR(st.st_mode))
+      fail(ErrorKind::kNotFound,
+           "framework '" + name_ + "': model file '" + m + "' is a directory, not a model file");
     if (::access(m.c_str(), R_OK) != 0)
       fail(ErrorKind::kNotFound, "framework '" + name_ + "': model file '" + m +
                                      "' is not readable (" + std::strerror(errno) + ")");
@@ -123,7 +146,7 @@ void FilterInstance::check_models(const std::vector<std::string> &models) const 
 std::shared_ptr<FilterSession> FilterInstance::open_session(
     const std::vector<std::string> &models) {
   check_models(models);
-  PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, spec_, models);
+  PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, be_->flags, spec_, models);
   char err[kErrLen];
   err[0] = '\0';
   void *priv = nullptr;
@@ -206,34 +229,52 @@ void FilterInstance::suspend() {
   suspended_.store(true, std::memory_order_relaxed);
 }
 
-bool FilterInstance::model_info(TensorsInfo &in, TensorsInfo &out) {
-  std::unique_lock lk(mu_);
-  resume_locked();
+bool FilterInstance::model_info_of(void *priv, const std::vector<std::string> &models,
+                                   TensorsInfo &in, TensorsInfo &out) const {
   if (!be_->get_model_info) return false;
   auto din = new_desc(), dout = new_desc();
   char err[kErrLen];
   err[0] = '\0';
-  int rc = be_->get_model_info(session_->priv(), din.get(), dout.get(), err, sizeof err);
+  int rc = be_->get_model_info(priv, din.get(), dout.get(), err, sizeof err);
   if (rc == -ENOTSUP) return false;
-  if (rc != 0) raise("cannot read the model's tensor shapes", rc, err);
+  if (rc != 0) raise(models, "cannot read the model's tensor shapes", rc, err);
   in = info_from_desc(*din);
   out = info_from_desc(*dout);
   return true;
 }
 
-bool FilterInstance::set_input_info(const TensorsInfo &in, TensorsInfo &out) {
-  std::unique_lock lk(mu_);
-  resume_locked();
+bool FilterInstance::set_input_info_of(void *priv, const std::vector<std::string> &models,
+                                       const TensorsInfo &in, TensorsInfo &out) const {
   if (!be_->set_input_info) return false;
   auto din = make_desc(in);
   auto dout = new_desc();
   char err[kErrLen];
   err[0] = '\0';
-  int rc = be_->set_input_info(session_->priv(), din.get(), dout.get(), err, sizeof err);
+  int rc = be_->set_input_info(priv, din.get(), dout.get(), err, sizeof err);
   if (rc == -ENOTSUP) return false;
-  if (rc != 0) raise("the model does not accept input " + in.to_string(), rc, err);
+  if (rc != 0) raise(models, "the model does not accept input " + in.to_string(), rc, err);
   out = info_from_desc(*dout);
   return true;
+}
+
+bool FilterInstance::model_info(TensorsInfo &in, TensorsInfo &out) {
+  std::unique_lock lk(mu_);
+  resume_locked();
+  return model_info_of(session_->priv(), spec_.models, in, out);
+}
+
+bool FilterInstance::set_input_info(const TensorsInfo &in, TensorsInfo &out) {
+  std::unique_lock lk(mu_);
+  resume_locked();
+  return set_input_info_of(session_->priv(), spec_.models, in, out);
+}
+
+bool FilterInstance::ReloadProbe::model_info(TensorsInfo &in, TensorsInfo &out) const {
+  return inst_.model_info_of(priv_, models_, in, out);
+}
+
+bool FilterInstance::ReloadProbe::set_input_info(const TensorsInfo &in, TensorsInfo &out) const {
+  return inst_.set_input_info_of(priv_, models_, in, out);
 }
 
 int FilterInstance::invoke(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out,
@@ -288,30 +329,21 @@ void FilterInstance::invoke_dynamic(const nns_tensors_desc &in_info, const GstTe
   if (rc < 0) raise("invoke (dynamic) failed", rc, err);
 }
 
-void FilterInstance::reload(const std::vector<std::string> &models) {
-  std::unique_lock lk(mu_);
-  resume_locked();
-  if (be_->reload) {
-    check_models(models);
-    FilterOpenSpec s = spec_;
-    s.models = models;
-    PropsHolder props(spec_.framework.empty() ? name_ : spec_.framework, s, models);
-    char err[kErrLen];
-    err[0] = '\0';
-    int rc = be_->reload(session_->priv(), &props.p, err, sizeof err);
-    if (rc == 0) {
-      spec_.models = models;
-      return;
-    }
-    if (rc != -ENOTSUP)
-      fail(ErrorKind::kLibrary, "framework '" + name_ + "' could not reload model '" +
-                                    join_models(models) +
-                                    "': " + (err[0] ? std::string(err) : std::strerror(-rc)));
+void FilterInstance::reload(const std::vector<std::string> &models, const ReloadCheck &check) {
+  std::lock_guard rl(reload_mu_);  // spec_ changes only here, so it is read safely below
+  // Opened beside the current model, without the invoke lock: frames go on meanwhile. Any
+  // throw from here to the swap leaves the current model as it was (`fresh` closes).
+  std::shared_ptr<FilterSession> fresh = open_session(models);
+  if (check) check(ReloadProbe(*this, fresh->priv(), models));
+  std::shared_ptr<FilterSession> old;
+  {
+    std::unique_lock lk(mu_);
+    old = std::exchange(session_, std::move(fresh));
+    spec_.models = models;
+    suspended_by_event_ = false;
+    suspended_.store(false, std::memory_order_relaxed);
   }
-  // Open the new model first so a failure keeps the old one.
-  auto fresh = open_session(models);
-  session_ = std::move(fresh);
-  spec_.models = models;
+  // `old` closes here, outside the lock, or later when the last output buffer of it goes.
 }
 
 }  // namespace nns

@@ -7,13 +7,15 @@
 // - acquire() shares one instance among filters with the same shared-tensor-filter-key,
 //   framework and model (reference counted through shared_ptr).
 // - invoke() is serialized with a mutex unless the back end sets NNS_FILTER_FLAG_THREAD_SAFE.
-// - reload() uses the back end's reload() or opens the new model and swaps it in;
-//   suspend() sends NNS_FILTER_EVENT_SUSPEND or closes the model, and the next call reopens.
+// - reload() opens the new model beside the old one, lets the caller check its tensors, and
+//   only then swaps it in: any failure leaves the old model loaded and running.
+// - suspend() sends NNS_FILTER_EVENT_SUSPEND or closes the model, and the next call reopens.
 // Each opened back-end state lives in a Session; memory a back end allocated in invoke keeps
 // its Session alive, so a reload or suspend never frees state that output buffers still use.
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <shared_mutex>
@@ -26,11 +28,16 @@
 
 namespace nns {
 
+// True when `info` holds tensor names only (inputname= without input=/inputtype=).
+bool names_only(const TensorsInfo &info);
+
 struct FilterOpenSpec {
   std::string framework;  // framework= as given ("auto", an alias or a name)
   std::vector<std::string> models;
-  TensorsInfo input;   // from input=/inputtype=/inputname=; empty when not given
-  TensorsInfo output;  // from output=/outputtype=/outputname=
+  // From input=/inputtype=/inputname=; empty when not given; names only (type kEnd, no dims)
+  // for inputname= alone, which reaches only NNS_FILTER_FLAG_TENSOR_NAMES back ends.
+  TensorsInfo input;
+  TensorsInfo output;  // from output=/outputtype=/outputname=, the same way
   std::string custom;
   std::string accelerator;
   std::vector<tensor_layout> input_layout;  // empty: ANY
@@ -91,9 +98,27 @@ class FilterInstance {
                       nns_tensors_desc &out_info, GstTensorMemory *out,
                       std::shared_ptr<FilterSession> *used);
 
-  // Loads `models` in place of the current model (is-updatable). Throws on failure and keeps
-  // the previous model.
-  void reload(const std::vector<std::string> &models);
+  // A model opened by reload() but not swapped in yet, for the caller to inspect.
+  class ReloadProbe {
+   public:
+    ReloadProbe(FilterInstance &inst, void *priv, const std::vector<std::string> &models)
+        : inst_(inst), priv_(priv), models_(models) {}
+    // As model_info() / set_input_info(), on the new model.
+    bool model_info(TensorsInfo &in, TensorsInfo &out) const;
+    bool set_input_info(const TensorsInfo &in, TensorsInfo &out) const;
+
+   private:
+    FilterInstance &inst_;
+    void *priv_;
+    const std::vector<std::string> &models_;
+  };
+  // Throws to refuse the new model.
+  using ReloadCheck = std::function<void(const ReloadProbe &)>;
+
+  // Loads `models` in place of the current model (is-updatable): opens them beside the current
+  // model (invokes go on meanwhile), runs `check` on the new one, then swaps. Throws on any
+  // failure, the current model staying loaded and in use. Reloads are serialized.
+  void reload(const std::vector<std::string> &models, const ReloadCheck &check = {});
   // Idle: let the back end free its resources; the next call resumes transparently.
   void suspend();
   // Makes invoke() record the time of each call (for suspend=; one clock read per invoke).
@@ -108,8 +133,15 @@ class FilterInstance {
   FilterInstance(const BackendRef &be, const FilterOpenSpec &spec);
   void check_models(const std::vector<std::string> &models) const;
   std::shared_ptr<FilterSession> open_session(const std::vector<std::string> &models);
+  // On one session; messages name `models`.
+  bool model_info_of(void *priv, const std::vector<std::string> &models, TensorsInfo &in,
+                     TensorsInfo &out) const;
+  bool set_input_info_of(void *priv, const std::vector<std::string> &models, const TensorsInfo &in,
+                         TensorsInfo &out) const;
   void resume_locked();
   [[noreturn]] void raise(const std::string &what, int rc, const char *err) const;
+  [[noreturn]] void raise(const std::vector<std::string> &models, const std::string &what, int rc,
+                          const char *err) const;
 
   const nns_filter_backend_i *be_;
   std::string origin_;
@@ -123,7 +155,8 @@ class FilterInstance {
   std::atomic<bool> track_use_{false};
   std::atomic<int64_t> last_use_us_{0};
   bool suspended_by_event_ = false;
-  unsigned open_count_ = 0;
+  std::atomic<unsigned> open_count_{0};
+  std::mutex reload_mu_;  // one reload at a time (shared instances: from several filters)
 };
 
 }  // namespace nns

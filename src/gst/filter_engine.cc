@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/filter_desc.h"
 #include "core/filter_registry.h"
+#include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"
 #include "gst/tensor_caps.h"
@@ -27,6 +28,12 @@ int64_t now_ns() {
 GstCaps *with_flexible(GstCaps *caps, int rate_n, int rate_d) {
   gst_caps_append(caps, caps_for_format(TensorFormat::kFlexible, rate_n, rate_d));
   return caps;
+}
+
+std::string join(const std::vector<std::string> &v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
+  return s;
 }
 
 TensorsInfo as_static(TensorsInfo i) {
@@ -105,6 +112,15 @@ void FilterEngine::open(const FilterSettings &s) {
                                    std::string(be.iface->name) +
                                    "' does not support dynamic invoke");
   inst_ = FilterInstance::acquire(be, spec);
+  if (!(inst_->flags() & NNS_FILTER_FLAG_TENSOR_NAMES))
+    for (const char *prop : {"inputname", "outputname"}) {
+      const TensorsInfo &given = prop[0] == 'i' ? spec.input : spec.output;
+      if (names_only(given))
+        NNS_POST_WARNING(element_, std::string(prop) + "='" +
+                                       (prop[0] == 'i' ? s.inputname : s.outputname) +
+                                       "' is ignored: framework '" + inst_->name() +
+                                       "' does not pick tensors by name");
+    }
   allocate_in_invoke_ = (inst_->flags() & NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE) != 0;
   check_model_shapes();
   stats_.reset();
@@ -124,6 +140,10 @@ void FilterEngine::check_model_shapes() {
   model_out_known_ = known && mo.size() > 0 && mo.valid();
   TensorsInfo pin = settings_.shared_key.empty() ? spec.input : make_open_spec(settings_).input;
   TensorsInfo pout = settings_.shared_key.empty() ? spec.output : make_open_spec(settings_).output;
+  // inputname=/outputname= alone pick tensors (the model's shapes already reflect the choice);
+  // they describe no shapes to check.
+  if (names_only(pin)) pin = TensorsInfo{};
+  if (names_only(pout)) pout = TensorsInfo{};
   if (pin.size() && model_in_known_ && !pin.same_as(mi))
     fail(ErrorKind::kNegotiation, where() + ": input='" + settings_.input + "' inputtype='" +
                                       settings_.inputtype + "' gives " + pin.to_string() +
@@ -153,20 +173,38 @@ void FilterEngine::close() {
 
 void FilterEngine::reload(const std::vector<std::string> &models) {
   if (!inst_) return;
-  inst_->reload(models);
-  TensorsInfo mi, mo;
-  if (inst_->model_info(mi, mo) && configured_ && !invoke_dynamic_) {
-    mi = as_static(mi);
-    mo = as_static(mo);
-    if (mi.size() && mi.valid() && !mi.same_as(model_in_))
-      fail(ErrorKind::kNegotiation, where() + ": the reloaded model's input " + mi.to_string() +
-                                        " differs from the negotiated input " +
-                                        model_in_.to_string());
-    if (mo.size() && mo.valid() && !mo.same_as(model_out_))
-      fail(ErrorKind::kNegotiation, where() + ": the reloaded model's output " + mo.to_string() +
-                                        " differs from the negotiated output " +
-                                        model_out_.to_string());
+  FilterInstance::ReloadCheck check;
+  if (configured_ && !invoke_dynamic_) {
+    // The stream's caps stay as negotiated: the new model must take and give the same tensors.
+    check = [&](const FilterInstance::ReloadProbe &probe) {
+      std::string what = "framework '" + inst_->name() + "': model '" + join(models) +
+                         "' cannot replace model '" + join(inst_->spec().models) + "': ";
+      TensorsInfo mi, mo;
+      bool known = probe.model_info(mi, mo);
+      mi = as_static(mi);
+      mo = as_static(mo);
+      bool in_known = known && mi.size() && mi.valid();
+      bool out_known = known && mo.size() && mo.valid();
+      if (in_known && !mi.same_as(model_in_))
+        fail(ErrorKind::kNegotiation, what + "the reloaded model's input " + mi.to_string() +
+                                          " differs from the negotiated input " +
+                                          model_in_.to_string());
+      if (!(in_known && out_known)) {
+        // As configure(): a model that does not tell its shapes learns the negotiated input.
+        TensorsInfo computed;
+        if (probe.set_input_info(model_in_, computed)) {
+          computed = as_static(computed);
+          if (computed.size() && computed.valid() && !out_known) mo = computed;
+          out_known = out_known || (computed.size() && computed.valid());
+        }
+      }
+      if (out_known && !mo.same_as(model_out_))
+        fail(ErrorKind::kNegotiation, what + "the reloaded model's output " + mo.to_string() +
+                                          " differs from the negotiated output " +
+                                          model_out_.to_string());
+    };
   }
+  inst_->reload(models, check);
 }
 
 TensorsInfo FilterEngine::current_input() const {

@@ -171,9 +171,8 @@ FilterOpenSpec make_open_spec(const FilterSettings &s) {
   spec.models = split_models(s.model);
   spec.input = parse_tensor_props(s.input, s.inputtype, s.inputname, "input");
   spec.output = parse_tensor_props(s.output, s.outputtype, s.outputname, "output");
-  // Names alone do not describe tensors for negotiation; keep them out of the shape check.
-  if (!spec.input.valid()) spec.input = TensorsInfo{};
-  if (!spec.output.valid()) spec.output = TensorsInfo{};
+  // Names alone (type kEnd, no dims) go to back ends that pick tensors by name; the shape
+  // checks skip them (FilterEngine::check_model_shapes).
   spec.custom = s.custom;
   spec.accelerator = s.accelerator;
   spec.input_layout = parse_layouts(s.inputlayout);

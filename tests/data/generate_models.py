@@ -55,6 +55,25 @@ class AddMul(nn.Module):
         return a + b, a * b
 
 
+class SubScale(nn.Module):
+    """Two inputs, three named outputs that tell the inputs apart: (x - y, x + 2y, x * y)."""
+
+    def forward(self, x, y):
+        return x - y, x + 2.0 * y, x * y
+
+
+class WideLinear(nn.Module):
+    """float32 [1,1024] -> [1,1024] through a 1024x1024 matrix: 4 MiB of weights, so that a
+    model instance leaked per load stands out in the process's memory."""
+
+    def __init__(self):
+        super().__init__()
+        self.fc = nn.Linear(1024, 1024, bias=False)
+
+    def forward(self, x):
+        return self.fc(x)
+
+
 class ConvNet(nn.Module):
     """A small NCHW conv net: logits over 5 classes and their softmax."""
 
@@ -87,6 +106,13 @@ PY_BODIES = {
         a = np.asarray(input_array[0], dtype=np.float32).reshape(IN_SHAPES[0])
         b = np.asarray(input_array[1], dtype=np.float32).reshape(IN_SHAPES[1])
         return [np.ascontiguousarray(a + b), np.ascontiguousarray(a * b)]
+""",
+    "sub_scale": """
+    def invoke(self, input_array):
+        x = np.asarray(input_array[0], dtype=np.float32).reshape(IN_SHAPES[0])
+        y = np.asarray(input_array[1], dtype=np.float32).reshape(IN_SHAPES[1])
+        return [np.ascontiguousarray(x - y), np.ascontiguousarray(x + np.float32(2.0) * y),
+                np.ascontiguousarray(x * y)]
 """,
     "uint8_scale": """
     def invoke(self, input_array):
@@ -330,6 +356,20 @@ def main():
                          make_pt=False, make_py=False, make_tflite=False))
 
     models.append(write_darknet(out_dir, rng))
+
+    # Outputs and inputs picked by name (tensor_filter inputname=/outputname=). Drawn last so
+    # the other models keep their reference data.
+    sx = rng.uniform(-2, 2, (1, 2, 3)).astype(np.float32)
+    sy = rng.uniform(-2, 2, (1, 2, 3)).astype(np.float32)
+    models.append(export(out_dir, "sub_scale", SubScale(), [sx, sy], ["x", "y"],
+                         ["diff", "wsum", "prod"],
+                         "two float32 inputs [1,2,3] -> (x-y, x+2y, x*y), named outputs"))
+
+    # Big enough (4 MiB of weights) for the load/unload leak tests (tests/slow/).
+    w = rng.uniform(-1, 1, (1, 1024)).astype(np.float32)
+    models.append(export(out_dir, "wide_linear", WideLinear(), [w], ["input"], ["output"],
+                         "float32 [1,1024] -> linear 1024x1024 without bias -> [1,1024]",
+                         tolerance=1e-4, make_py=False))
 
     with open(os.path.join(out_dir, "models.json"), "w") as f:
         json.dump({"models": [m["model"] for m in models]}, f, indent=1)

@@ -110,10 +110,10 @@ struct FilterHarness {
   GstBus *bus = nullptr;
   explicit FilterHarness(const std::string &desc, const std::string &src_caps) {
     GstElement *e = gst_parse_launch(desc.c_str(), nullptr);
+    bus = gst_bus_new();
+    gst_element_set_bus(e, bus);  // before the harness starts it: catches messages of the start
     h.reset(gst_harness_new_with_element(e, "sink", "src"));
     gst_object_unref(e);
-    bus = gst_bus_new();
-    gst_element_set_bus(h->element, bus);
     gst_harness_set_src_caps_str(h.get(), src_caps.c_str());
   }
   ~FilterHarness() {
@@ -123,12 +123,18 @@ struct FilterHarness {
     gst_object_unref(bus);
   }
   GstElement *element() { return h->element; }
-  std::string error_text() {
+  std::string error_text() { return message_text(GST_MESSAGE_ERROR); }
+  std::string warning_text() { return message_text(GST_MESSAGE_WARNING); }
+  // The texts of the queued messages of `type` (ERROR or WARNING), which are taken off the bus.
+  std::string message_text(GstMessageType type) {
     std::string out;
-    while (GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR)) {
+    while (GstMessage *m = gst_bus_pop_filtered(bus, type)) {
       GError *e = nullptr;
       gchar *dbg = nullptr;
-      gst_message_parse_error(m, &e, &dbg);
+      if (type == GST_MESSAGE_ERROR)
+        gst_message_parse_error(m, &e, &dbg);
+      else
+        gst_message_parse_warning(m, &e, &dbg);
       out += e->message;
       g_error_free(e);
       g_free(dbg);

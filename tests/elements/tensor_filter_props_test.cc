@@ -352,14 +352,66 @@ TEST(TensorFilterProps, ReloadWhilePlayingWhenUpdatable) {
   EXPECT_EQ(fh.error_text(), "");
 }
 
-TEST(TensorFilterProps, ReloadToContradictingModelIsAnError) {
-  std::string m1 = write_temp("m1.t", "1 uint8 4"), m2 = write_temp("m2.t", "1 uint8 8");
+// A refused reload leaves the old model loaded and running: a WARNING (the stream goes on, as
+// in NNStreamer, which only logs it) names both models and the cause, `model` reads the old path.
+TEST(TensorFilterProps, ReloadToContradictingModelKeepsTheOldOne) {
+  std::string m1 = write_temp("m1.t", "1 uint8 4"), m2 = write_temp("m2.t", "5 uint8 8");
   FilterHarness fh("tensor_filter framework=nnstest is-updatable=true model=" + m1,
                    tensors_caps("uint8", "4"));
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
+  int opens = g_opens, closes = g_closes;
   g_object_set(fh.element(), "model", m2.c_str(), nullptr);
-  EXPECT_NE(fh.error_text().find("reloaded model's input 1 tensor(s): [0] uint8 8"),
-            std::string::npos);
+  std::string w = fh.warning_text();
+  EXPECT_NE(w.find("reload refused, still running model '" + m1 + "'"), std::string::npos) << w;
+  EXPECT_NE(w.find("model '" + m2 + "' cannot replace model '" + m1 + "'"), std::string::npos) << w;
+  EXPECT_NE(w.find("the reloaded model's input 1 tensor(s): [0] uint8 8 differs from the "
+                   "negotiated input 1 tensor(s): [0] uint8 4"),
+            std::string::npos)
+      << w;
+  EXPECT_EQ(g_opens - opens, 1);    // the new model was opened beside the old one ...
+  EXPECT_EQ(g_closes - closes, 1);  // ... and closed again
+  gchar *model = nullptr;
+  g_object_get(fh.element(), "model", &model, nullptr);
+  EXPECT_EQ(std::string(model), m1);
+  g_free(model);
+  EXPECT_EQ(push_pull(fh, {{1, 2, 3, 4}}), (std::vector<uint8_t>{2, 3, 4, 5}));
+  EXPECT_EQ(fh.error_text(), "");
+  // A model that does not load at all is refused the same way.
+  std::string bad = write_temp("bad.t", "not a number");
+  g_object_set(fh.element(), "model", bad.c_str(), nullptr);
+  w = fh.warning_text();
+  EXPECT_NE(w.find("could not open model '" + bad + "': cannot parse model " + bad),
+            std::string::npos)
+      << w;
+  EXPECT_EQ(push_pull(fh, {{1, 2, 3, 4}}), (std::vector<uint8_t>{2, 3, 4, 5}));
+  // And a good model still loads afterwards.
+  std::string m3 = write_temp("m3.t", "3 uint8 4");
+  g_object_set(fh.element(), "model", m3.c_str(), nullptr);
+  EXPECT_EQ(fh.warning_text(), "");
+  EXPECT_EQ(push_pull(fh, {{1, 2, 3, 4}}), (std::vector<uint8_t>{4, 5, 6, 7}));
+  EXPECT_EQ(fh.error_text(), "");
+}
+
+// Filters sharing one instance (shared-tensor-filter-key) keep the old model too.
+TEST(TensorFilterProps, RefusedReloadKeepsTheSharedModel) {
+  std::string m1 = write_temp("m1.t", "1 uint8 4"), m2 = write_temp("m2.t", "5 uint8 8");
+  std::string desc =
+      "tensor_filter framework=nnstest is-updatable=true shared-tensor-filter-key=reload_k "
+      "model=" +
+      m1;
+  FilterHarness a(desc, tensors_caps("uint8", "4")), b(desc, tensors_caps("uint8", "4"));
+  EXPECT_EQ(nns::FilterInstance::shared_use_count("reload_k"), 2u);
+  EXPECT_EQ(push_pull(a, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
+  EXPECT_EQ(push_pull(b, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
+  g_object_set(a.element(), "model", m2.c_str(), nullptr);
+  EXPECT_NE(a.warning_text().find("differs from the negotiated input"), std::string::npos);
+  EXPECT_EQ(push_pull(a, {{3, 3, 3, 3}}), (std::vector<uint8_t>{4, 4, 4, 4}));
+  EXPECT_EQ(push_pull(b, {{3, 3, 3, 3}}), (std::vector<uint8_t>{4, 4, 4, 4}));
+  // A good reload through one filter changes the model of both.
+  std::string m3 = write_temp("m3.t", "7 uint8 4");
+  g_object_set(a.element(), "model", m3.c_str(), nullptr);
+  EXPECT_EQ(push_pull(b, {{1, 1, 1, 1}}), (std::vector<uint8_t>{8, 8, 8, 8}));
+  EXPECT_EQ(a.error_text() + b.error_text(), "");
 }
 
 TEST(TensorFilterProps, ModelChangeIgnoredWithoutIsUpdatable) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // tensor_filter: loading back ends, built-in custom / custom-easy filters, shape checks and
 // their error messages.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -279,13 +280,59 @@ TEST(TensorFilter, PropertyShapeContradictingModelShowsBoth) {
 TEST(TensorFilter, CapsContradictingModelShowsBoth) {
   std::string so = filter_dir() + "/libcustom_passthrough.so";
   auto r = run_pipeline(fake_source(4, tensors_caps("uint8", "4")) +
-                        "tensor_filter framework=custom model=" + so + " ! fakesink");
+                        "tensor_filter name=tf framework=custom model=" + so + " ! fakesink");
   ASSERT_TRUE(r.error);
-  // Either the caps negotiation fails upstream, or set_caps reports both shapes.
-  EXPECT_TRUE(r.error_text.find("not-negotiated") != std::string::npos ||
-              r.error_text.find("negotiat") != std::string::npos ||
-              r.error_text.find("float32 10:1:1:1") != std::string::npos)
+  // The filter's own message (posted before the source's not-negotiated): the stream's shape,
+  // the model's shape and the model.
+  EXPECT_EQ(r.error_source, "tf") << r.error_text;
+  EXPECT_NE(r.error_text.find("the input stream has 1 tensor(s): [0] uint8 4,"), std::string::npos)
       << r.error_text;
+  EXPECT_NE(r.error_text.find("the model's input is 1 tensor(s): [0] float32 10:1:1:1"),
+            std::string::npos)
+      << r.error_text;
+  EXPECT_NE(r.error_text.find("model '" + so + "'"), std::string::npos) << r.error_text;
+}
+
+TEST(TensorFilter, DirectoryAsModelIsAnError) {
+  std::string dir = make_temp_dir();
+  auto r = run_pipeline(fake_source(40, tensors_caps("float32", "10")) +
+                        "tensor_filter framework=custom model=" + dir + " ! fakesink");
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("model file '" + dir + "' is a directory, not a model file"),
+            std::string::npos)
+      << r.error_text;
+  rmdir(dir.c_str());
+}
+
+TEST(TensorFilter, UnreadableModelIsAnError) {
+  if (geteuid() == 0)
+    GTEST_SKIP() << "running as root: a mode-000 file stays readable, so this cannot fail";
+  std::string model = write_temp("unreadable.so", "x");
+  ASSERT_EQ(chmod(model.c_str(), 0), 0);
+  auto r = run_pipeline(fake_source(40, tensors_caps("float32", "10")) +
+                        "tensor_filter framework=custom model=" + model + " ! fakesink");
+  chmod(model.c_str(), 0600);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("model file '" + model + "' is not readable (Permission denied)"),
+            std::string::npos)
+      << r.error_text;
+}
+
+// Back ends that do not pick tensors by name get no names-only description; the user is told.
+TEST(TensorFilter, NamesIgnoredByBackendWithoutNamesAreAWarning) {
+  std::string so = filter_dir() + "/libcustom_passthrough.so";
+  FilterHarness fh("tensor_filter framework=custom model=" + so + " inputname=pixels",
+                   tensors_caps("float32", "10:1:1:1"));
+  std::vector<uint8_t> bytes(40, 7);
+  ASSERT_EQ(gst_harness_push(fh.h.get(), tensor_buffer({bytes})), GST_FLOW_OK) << fh.error_text();
+  GstBuffer *out = gst_harness_pull(fh.h.get());
+  ASSERT_NE(out, nullptr);
+  EXPECT_EQ(memory_bytes(out, 0), bytes);
+  gst_buffer_unref(out);
+  EXPECT_NE(fh.warning_text().find(
+                "inputname='pixels' is ignored: framework 'custom' does not pick tensors by name"),
+            std::string::npos);
+  EXPECT_EQ(fh.error_text(), "");
 }
 
 TEST(TensorFilter, AfterTensorConverter) {

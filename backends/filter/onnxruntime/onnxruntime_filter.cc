@@ -363,7 +363,8 @@ class OnnxRuntimeFilter final : public FilterBackend {
     read_ports(m, true);
     read_ports(m, false);
     select_outputs(m, p.output);
-    if (p.input && p.input->num_tensors) resolve_inputs(m, *p.input, "input=");
+    if (p.input && p.input->num_tensors)
+      resolve_inputs(m, *p.input, desc_names_only(*p.input) ? "inputname=" : "input=");
     check_outputs(m, p.output);
     bool free_in = false;
     for (const auto &port : m.in) free_in = free_in || port.has_free_dim();
@@ -455,10 +456,13 @@ class OnnxRuntimeFilter final : public FilterBackend {
         k = m.in.size();
         for (std::size_t j = 0; j < m.in.size(); ++j)
           if (m.in[j].name == name) k = j;
-        if (k == m.in.size())
-          throw FilterError(err_prefix(m.path) + ": " + source + " names tensor '" + name +
-                                "', which is not an input of the model",
+        if (k == m.in.size()) {
+          std::string names;
+          for (const auto &q : m.in) names += (names.empty() ? "'" : ", '") + q.name + "'";
+          throw FilterError(err_prefix(m.path) + ": inputname '" + name +
+                                "' is not an input of the model (inputs: " + names + ")",
                             -EINVAL);
+        }
       }
       Port p = m.in[k];
       if (d.type != p.desc.type && d.type < _NNS_END)
@@ -552,7 +556,9 @@ const char *const kExtensions[] = {".onnx", ".ort", nullptr};
 }  // namespace nns
 
 NNS_FILTER_BACKEND_EXPORT(nns::OnnxRuntimeFilter, "onnxruntime",
-                          NNS_FILTER_FLAG_THREAD_SAFE | NNS_FILTER_FLAG_DYNAMIC, nns::kExtensions)
+                          NNS_FILTER_FLAG_THREAD_SAFE | NNS_FILTER_FLAG_DYNAMIC |
+                              NNS_FILTER_FLAG_TENSOR_NAMES,
+                          nns::kExtensions)
 
 // Bytes of output ORT did not write in place and the back end had to copy (0 in practice);
 // tests use it to prove zero copy. `priv` is the instance open() returned.

@@ -19,6 +19,7 @@
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/dnn.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -309,7 +310,8 @@ class OpenCvFilter final : public FilterBackend {
     net_.setPreferableTarget(target);
 
     read_declared_io(we, config);
-    if (p.input && p.input->num_tensors) apply_input(*p.input, "input=");
+    if (p.input && p.input->num_tensors)
+      apply_input(*p.input, desc_names_only(*p.input) ? "inputname=" : "input=");
     for (const auto &in : inputs_)
       if (!in.known)
         fail("the shape of input " + (in.name.empty() ? std::string("0") : "'" + in.name + "'") +
@@ -407,6 +409,7 @@ class OpenCvFilter final : public FilterBackend {
         check_count(source, given.num_tensors, inputs_.size());
       }
     }
+    reorder_inputs(given);
     for (uint32_t i = 0; i < given.num_tensors; ++i) {
       const nns_tensor_desc &d = given.tensors[i];
       Input &in = inputs_[i];
@@ -436,14 +439,41 @@ class OpenCvFilter final : public FilterBackend {
     for (auto &in : inputs_) in.bytes = desc_bytes(in.desc);
   }
 
+  // Named inputs of a model that declares its input names (ONNX) are matched by name, in the
+  // order given (inputname=y,x feeds the first tensor to y).
+  void reorder_inputs(const nns_tensors_desc &given) {
+    bool declared = false;
+    for (const auto &in : inputs_) declared = declared || !in.name.empty();
+    if (!declared || given.num_tensors != inputs_.size()) return;
+    std::vector<Input> ordered;
+    for (uint32_t i = 0; i < given.num_tensors; ++i) {
+      std::string name(given.tensors[i].name, strnlen(given.tensors[i].name, NNS_TENSOR_NAME_MAX));
+      if (name.empty()) return;  // positional
+      auto it = std::find_if(inputs_.begin(), inputs_.end(),
+                             [&](const Input &in) { return in.name == name; });
+      if (it == inputs_.end()) {
+        std::string names;
+        for (const auto &in : inputs_) names += (names.empty() ? "'" : ", '") + in.name + "'";
+        fail("inputname '" + name + "' is not an input of the model (inputs: " + names + ")");
+      }
+      ordered.push_back(*it);
+    }
+    inputs_ = std::move(ordered);
+  }
+
   // outputname= picks outputs (any layer name OpenCV knows), in the order given.
   void select_outputs(const nns_tensors_desc *want) {
     if (!want || !want->num_tensors || !want->tensors[0].name[0]) return;
+    std::vector<std::string> declared = out_names_;
     out_names_.clear();
     for (uint32_t i = 0; i < want->num_tensors; ++i) {
       std::string name(want->tensors[i].name, strnlen(want->tensors[i].name, NNS_TENSOR_NAME_MAX));
-      if (net_.getLayerId(name) < 0)
-        fail("outputname '" + name + "' is not a layer of the network");
+      if (net_.getLayerId(name) < 0) {
+        std::string names;
+        for (const auto &n : declared) names += (names.empty() ? "'" : ", '") + n + "'";
+        fail("outputname '" + name + "' is not a layer of the network (its outputs: " + names +
+             ")");
+      }
       out_names_.push_back(name);
     }
   }
@@ -516,4 +546,5 @@ const char *const kExtensions[] = {".onnx",  ".caffemodel", ".prototxt", ".pb",
 }  // namespace
 }  // namespace nns
 
-NNS_FILTER_BACKEND_EXPORT(nns::OpenCvFilter, "opencv", NNS_FILTER_FLAG_DYNAMIC, nns::kExtensions)
+NNS_FILTER_BACKEND_EXPORT(nns::OpenCvFilter, "opencv",
+                          NNS_FILTER_FLAG_DYNAMIC | NNS_FILTER_FLAG_TENSOR_NAMES, nns::kExtensions)

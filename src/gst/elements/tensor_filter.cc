@@ -157,15 +157,31 @@ static void update_profiling(GstTensorFilter *self) {
   p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
 }
 
-// is-updatable: a new model while running is loaded into the open instance.
-static void reload_model(GstTensorFilter *self, const std::string &model) {
+// is-updatable: a new model while running is loaded into the open instance. A model that
+// cannot be loaded, or whose tensors differ from the negotiated ones, is refused: the old model
+// stays loaded and running, `model` reads the old value again, and a WARNING message (not an
+// error: the stream goes on; NNStreamer only logs it) says which model and why.
+static void reload_model(GstTensorFilter *self, const std::string &model,
+                         const std::string &old_model) {
   FilterPriv *p = self->priv;
+  std::string refused;
   nns::gst::guard_void(self, [&] {
     std::lock_guard lk(p->engine_mu);
     if (!p->engine.is_open()) return;
     GST_INFO_OBJECT(self, "reloading model %s", model.c_str());
-    p->engine.reload(nns::gst::split_models(model));
+    try {
+      p->engine.reload(nns::gst::split_models(model));
+    } catch (const nns::Error &e) {
+      refused = e.what();
+    }
   });
+  if (refused.empty()) return;
+  {
+    std::lock_guard lk(p->settings_mu);
+    if (p->settings.model == model) p->settings.model = old_model;
+  }
+  NNS_POST_WARNING(
+      self, "is-updatable: reload refused, still running model '" + old_model + "': " + refused);
 }
 
 static void gst_tensor_filter_set_property(GObject *object, guint id, const GValue *value,
@@ -174,7 +190,7 @@ static void gst_tensor_filter_set_property(GObject *object, guint id, const GVal
   FilterPriv *p = self->priv;
   std::string config_path;
   bool reload = false;
-  std::string new_model;
+  std::string new_model, old_model;
   {
     std::lock_guard lk(p->settings_mu);
     FilterSettings &s = p->settings;
@@ -185,6 +201,7 @@ static void gst_tensor_filter_set_property(GObject *object, guint id, const GVal
       if (id == PROP_MODEL && s.is_updatable && nv != s.model) {
         reload = true;
         new_model = nv;
+        old_model = s.model;
       }
       *str = nv;
       if (id == PROP_CONFIG_FILE) config_path = nv;
@@ -222,7 +239,7 @@ static void gst_tensor_filter_set_property(GObject *object, guint id, const GVal
   }
   if (id == PROP_LATENCY || id == PROP_THROUGHPUT || id == PROP_LATENCY_REPORT)
     update_profiling(self);
-  if (reload) reload_model(self, new_model);
+  if (reload) reload_model(self, new_model, old_model);
   if (!config_path.empty()) {
     // Applied now, as NNStreamer does; problems are posted when the element starts.
     auto problems = nns::gst::apply_config_file(object, config_path);

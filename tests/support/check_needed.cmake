@@ -1,0 +1,35 @@
+# SPDX-License-Identifier: LGPL-2.1-only
+# Fails when a shared object's ELF NEEDED entries name an inference framework: the core plugin
+# and the single-shot library load back ends at run time and must never link one themselves.
+#   cmake -DREADELF=<readelf> "-DFILES=<a.so;b.so>" -P check_needed.cmake
+set(forbidden "torch|c10|onnxruntime|armnn|opencv|python")
+if(NOT READELF)
+  message(FATAL_ERROR "no readelf (binutils) to read the NEEDED entries with")
+endif()
+foreach(f IN LISTS FILES)
+  if(NOT EXISTS "${f}")
+    message(FATAL_ERROR "${f} does not exist (not built?)")
+  endif()
+  execute_process(COMMAND "${READELF}" -d "${f}" OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${READELF} -d ${f} failed: ${err}")
+  endif()
+  string(REGEX MATCHALL "\\(NEEDED\\)[^\n]*\\[[^]\n]+\\]" lines "${out}")
+  set(needed)
+  foreach(l IN LISTS lines)
+    string(REGEX REPLACE ".*\\[([^]]+)\\]$" "\\1" lib "${l}")
+    list(APPEND needed "${lib}")
+  endforeach()
+  if(NOT needed)
+    message(FATAL_ERROR "${f}: no NEEDED entries found in:\n${out}")
+  endif()
+  list(JOIN needed ", " shown)
+  message(STATUS "${f} NEEDED: ${shown}")
+  foreach(lib IN LISTS needed)
+    if(lib MATCHES "${forbidden}")
+      message(FATAL_ERROR "${f} links ${lib}: frameworks belong in their back-end .so "
+                          "(libnnstreamer_filter_<name>.so), loaded at run time")
+    endif()
+  endforeach()
+endforeach()
