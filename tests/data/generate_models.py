@@ -363,13 +363,14 @@ def main():
     sy = rng.uniform(-2, 2, (1, 2, 3)).astype(np.float32)
     models.append(export(out_dir, "sub_scale", SubScale(), [sx, sy], ["x", "y"],
                          ["diff", "wsum", "prod"],
-                         "two float32 inputs [1,2,3] -> (x-y, x+2y, x*y), named outputs"))
+                         "two float32 inputs [1,2,3] -> (x-y, x+2y, x*y), named outputs",
+                         make_tflite=False))
 
     # Big enough (4 MiB of weights) for the load/unload leak tests (tests/slow/).
     w = rng.uniform(-1, 1, (1, 1024)).astype(np.float32)
     models.append(export(out_dir, "wide_linear", WideLinear(), [w], ["input"], ["output"],
                          "float32 [1,1024] -> linear 1024x1024 without bias -> [1,1024]",
-                         tolerance=1e-4, make_py=False))
+                         tolerance=1e-4, make_py=False, make_tflite=False))
 
     with open(os.path.join(out_dir, "models.json"), "w") as f:
         json.dump({"models": [m["model"] for m in models]}, f, indent=1)
