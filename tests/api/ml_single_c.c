@@ -224,7 +224,8 @@ static void test_dynamic(void) {
   ml_tensors_data_destroy(in);
   ml_tensors_info_destroy(in_info);
 
-  /* Another shape: 2x2 */
+  /* Another shape: 2x2, through the time-out worker this time */
+  CHECK(ml_single_set_timeout(h, 10000) == ML_ERROR_NONE);
   in_info = f32_info(2, 2);
   ml_tensors_data_create(in_info, &in);
   ml_tensors_data_set_tensor_data(in, 0, v, 4 * sizeof(float));
