@@ -11,7 +11,9 @@ namespace {
 
 thread_local std::string t_last_error;
 
-std::size_t round_up(std::size_t n) { return (n + 63) / 64 * 64; }
+std::size_t round_up(std::size_t n) {
+  return (n + 63) / 64 * 64;
+}
 
 }  // namespace
 
@@ -20,7 +22,9 @@ int report(int code, const std::string &msg) {
   return code;
 }
 
-void clear_error() { t_last_error.clear(); }
+void clear_error() {
+  t_last_error.clear();
+}
 
 TensorsInfoHandle *as_info(ml_tensors_info_h h) {
   auto *p = static_cast<TensorsInfoHandle *>(h);
@@ -30,6 +34,11 @@ TensorsInfoHandle *as_info(ml_tensors_info_h h) {
 TensorsDataHandle *as_data(ml_tensors_data_h h) {
   auto *p = static_cast<TensorsDataHandle *>(h);
   return p && p->magic == kDataMagic ? p : nullptr;
+}
+
+OptionHandle *as_option(ml_option_h h) {
+  auto *p = static_cast<OptionHandle *>(h);
+  return p && p->magic == kOptionMagic ? p : nullptr;
 }
 
 TensorsDataHandle *new_data(const TensorsInfo &info) {
@@ -58,33 +67,45 @@ using namespace nns::api;
 
 #define NNS_API extern "C" __attribute__((visibility("default")))
 
-#define REQUIRE_INFO(var, h)                                                           \
-  TensorsInfoHandle *var = as_info(h);                                                 \
-  if (!var)                                                                            \
-    return report(ML_ERROR_INVALID_PARAMETER,                                          \
-                  std::string(__func__) + ": the tensors-info handle is NULL or invalid")
+#define REQUIRE_INFO(var, h)                \
+  TensorsInfoHandle *var = as_info(h);      \
+  if (!var)                                 \
+  return report(ML_ERROR_INVALID_PARAMETER, \
+                std::string(__func__) + ": the tensors-info handle is NULL or invalid")
 
-#define REQUIRE_INDEX(var, index)                                                          \
-  if ((index) >= var->info.size())                                                         \
-  return report(ML_ERROR_INVALID_PARAMETER,                                                \
-                std::string(__func__) + ": index " + std::to_string(index) +               \
-                    " is out of range; the info has " + std::to_string(var->info.size()) + \
-                    " tensor(s)")
+#define REQUIRE_INDEX(var, index)                                                   \
+  if ((index) >= var->info.size())                                                  \
+  return report(ML_ERROR_INVALID_PARAMETER, std::string(__func__) + ": index " +    \
+                                                std::to_string(index) +             \
+                                                " is out of range; the info has " + \
+                                                std::to_string(var->info.size()) + " tensor(s)")
 
-NNS_API const char *ml_error(void) { return t_last_error.c_str(); }
+NNS_API const char *ml_error(void) {
+  return t_last_error.c_str();
+}
 
 NNS_API const char *ml_strerror(int code) {
   switch (code) {
-    case ML_ERROR_NONE: return "no error";
-    case ML_ERROR_INVALID_PARAMETER: return "invalid parameter";
-    case ML_ERROR_STREAMS_PIPE: return "cannot create or access the pipeline";
-    case ML_ERROR_TRY_AGAIN: return "not ready yet, try again";
-    case ML_ERROR_TIMED_OUT: return "timed out";
-    case ML_ERROR_NOT_SUPPORTED: return "not supported";
-    case ML_ERROR_PERMISSION_DENIED: return "permission denied";
-    case ML_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case ML_ERROR_IO_ERROR: return "input/output error";
-    default: return "unknown error";
+    case ML_ERROR_NONE:
+      return "no error";
+    case ML_ERROR_INVALID_PARAMETER:
+      return "invalid parameter";
+    case ML_ERROR_STREAMS_PIPE:
+      return "cannot create or access the pipeline";
+    case ML_ERROR_TRY_AGAIN:
+      return "not ready yet, try again";
+    case ML_ERROR_TIMED_OUT:
+      return "timed out";
+    case ML_ERROR_NOT_SUPPORTED:
+      return "not supported";
+    case ML_ERROR_PERMISSION_DENIED:
+      return "permission denied";
+    case ML_ERROR_OUT_OF_MEMORY:
+      return "out of memory";
+    case ML_ERROR_IO_ERROR:
+      return "input/output error";
+    default:
+      return "unknown error";
   }
 }
 
@@ -151,7 +172,8 @@ NNS_API int ml_tensors_info_get_tensor_name(ml_tensors_info_h info, unsigned int
                                             char **name) {
   REQUIRE_INFO(p, info);
   REQUIRE_INDEX(p, index);
-  if (!name) return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_get_tensor_name: name is NULL");
+  if (!name)
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_get_tensor_name: name is NULL");
   *name = p->info[index].name.empty() ? nullptr : strdup(p->info[index].name.c_str());
   return ML_ERROR_NONE;
 }
@@ -171,9 +193,11 @@ NNS_API int ml_tensors_info_get_tensor_type(ml_tensors_info_h info, unsigned int
                                             ml_tensor_type_e *type) {
   REQUIRE_INFO(p, info);
   REQUIRE_INDEX(p, index);
-  if (!type) return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_get_tensor_type: type is NULL");
-  *type = p->info[index].type == TensorType::kEnd ? ML_TENSOR_TYPE_UNKNOWN
-                                                   : static_cast<ml_tensor_type_e>(p->info[index].type);
+  if (!type)
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_get_tensor_type: type is NULL");
+  *type = p->info[index].type == TensorType::kEnd
+              ? ML_TENSOR_TYPE_UNKNOWN
+              : static_cast<ml_tensor_type_e>(p->info[index].type);
   return ML_ERROR_NONE;
 }
 
@@ -184,7 +208,8 @@ NNS_API int ml_tensors_info_set_tensor_dimension(ml_tensors_info_h info, unsigne
   Dims d{};
   bool ended = false;
   for (std::size_t i = 0; i < kRankLimit; ++i) {
-    if (dimension[i] == 0) ended = true;
+    if (dimension[i] == 0)
+      ended = true;
     else if (ended)
       return report(ML_ERROR_INVALID_PARAMETER,
                     "ml_tensors_info_set_tensor_dimension: dimension has a value after a 0");
@@ -264,13 +289,15 @@ NNS_API int ml_tensors_data_set_tensor_data(ml_tensors_data_h data, unsigned int
     return report(ML_ERROR_INVALID_PARAMETER,
                   "ml_tensors_data_set_tensor_data: tensor " + std::to_string(index) + " holds " +
                       std::to_string(d->sizes[index]) + " bytes, got " + std::to_string(data_size));
-  if (d->buffers[index].get() != raw_data) std::memcpy(d->buffers[index].get(), raw_data, data_size);
+  if (d->buffers[index].get() != raw_data)
+    std::memcpy(d->buffers[index].get(), raw_data, data_size);
   return ML_ERROR_NONE;
 }
 
 NNS_API int ml_tensors_data_get_info(const ml_tensors_data_h data, ml_tensors_info_h *info) {
   TensorsDataHandle *d = as_data(data);
-  if (!d || !info) return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_data_get_info: NULL argument");
+  if (!d || !info)
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_data_get_info: NULL argument");
   auto *h = new (std::nothrow) TensorsInfoHandle();
   if (!h) return report(ML_ERROR_OUT_OF_MEMORY, "ml_tensors_data_get_info");
   h->info = d->info;
@@ -282,11 +309,6 @@ NNS_API int ml_option_create(ml_option_h *option) {
   if (!option) return report(ML_ERROR_INVALID_PARAMETER, "ml_option_create: option is NULL");
   *option = new (std::nothrow) OptionHandle();
   return *option ? ML_ERROR_NONE : report(ML_ERROR_OUT_OF_MEMORY, "ml_option_create");
-}
-
-static OptionHandle *as_option(ml_option_h h) {
-  auto *p = static_cast<OptionHandle *>(h);
-  return p && p->magic == kOptionMagic ? p : nullptr;
 }
 
 NNS_API int ml_option_destroy(ml_option_h option) {
@@ -311,10 +333,12 @@ NNS_API int ml_option_set(ml_option_h option, const char *key, void *value,
 
 NNS_API int ml_option_get(ml_option_h option, const char *key, void **value) {
   OptionHandle *o = as_option(option);
-  if (!o || !key || !value) return report(ML_ERROR_INVALID_PARAMETER, "ml_option_get: NULL argument");
+  if (!o || !key || !value)
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_option_get: NULL argument");
   auto it = o->entries.find(key);
   if (it == o->entries.end())
-    return report(ML_ERROR_INVALID_PARAMETER, std::string("ml_option_get: no value for key '") + key + "'");
+    return report(ML_ERROR_INVALID_PARAMETER,
+                  std::string("ml_option_get: no value for key '") + key + "'");
   *value = it->second.value;
   return ML_ERROR_NONE;
 }

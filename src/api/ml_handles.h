@@ -52,6 +52,7 @@ void clear_error();
 
 TensorsInfoHandle *as_info(ml_tensors_info_h h);
 TensorsDataHandle *as_data(ml_tensors_data_h h);
+OptionHandle *as_option(ml_option_h h);
 // New data handle with buffers for `info` (zero-filled). Throws std::bad_alloc.
 TensorsDataHandle *new_data(const TensorsInfo &info);
 

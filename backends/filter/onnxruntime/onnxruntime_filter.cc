@@ -504,12 +504,14 @@ class OnnxRuntimeFilter final : public FilterBackend {
   }
 
   // Computes byte sizes and, when an output shape depends on the input, learns it from one
-  // run on zeros.
+  // run on zeros. Free output dims are those the model declares (-1), so a later
+  // set_input_info with other sizes learns them again.
   void finish(Model &m) {
     set_names(m);
     for (auto &p : m.in) p.bytes = desc_bytes(p.desc);
     bool free_out = false;
-    for (auto &p : m.out) free_out = free_out || p.has_free_dim();
+    for (auto &p : m.out)
+      for (auto v : p.model_shape) free_out = free_out || v < 0;
     if (free_out) {
       std::vector<std::vector<uint8_t>> zeros;
       std::vector<Ort::Value> ins, outs;
