@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 # Single-shot API tests: linked only against libnnstreamer-single, as applications are.
-add_executable(ml_single_api api/ml_single_api.cc api/ml_single_dynamic_test.cc
-                             api/ml_single_props_test.cc)
+add_executable(ml_single_api api/ml_single_api.cc api/ml_single_dynamic.cc
+                             api/ml_single_props.cc)
 target_include_directories(ml_single_api PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
 target_compile_definitions(ml_single_api PRIVATE NNS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
                            NNS_BUILD_DIR="${CMAKE_BINARY_DIR}")
