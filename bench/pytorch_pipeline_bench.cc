@@ -8,8 +8,12 @@
 // Rounds alternate the modes so machine load hits them alike; medians are reported.
 //
 //   build/bench/pytorch_pipeline_bench [iterations=2000] [rounds=5] [threads=1] [modes=tbp]
-//   (more modes: q = appsrc ! queue ! tensor_filter, f = fresh back-end instance,
-//    c = caches cooled between direct invokes, B = direct loop on another thread)
+//   (more modes: q = appsrc ! queue ! tensor_filter, i = the back end's invoke time (wall)
+//    measured inside the pipeline, f = fresh back-end instance,
+//    c = caches cooled between direct invokes, B = direct loop on another thread,
+//    S = direct loop inside a GStreamer streaming thread)
+// Each direct loop and pipeline also prints its thread's user/system time, minor page faults
+// and context switches per invoke (getrusage RUSAGE_THREAD).
 #include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 #include <torch/script.h>
@@ -24,6 +28,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <sys/resource.h>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -58,6 +63,27 @@ double thread_cpu_now() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+// The calling thread's user and system CPU seconds, page faults and context switches.
+struct ThreadUse {
+  double user = 0, sys = 0;
+  long minflt = 0, nvcsw = 0, nivcsw = 0;
+};
+
+ThreadUse thread_use() {
+  rusage ru{};
+  getrusage(RUSAGE_THREAD, &ru);
+  return {ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6,
+          ru.ru_stime.tv_sec + ru.ru_stime.tv_usec * 1e-6, ru.ru_minflt, ru.ru_nvcsw, ru.ru_nivcsw};
+}
+
+void print_use(const char *what, const ThreadUse &a, const ThreadUse &b, int n) {
+  std::printf(
+      "  %s thread: user %.1f us, sys %.1f us, minor faults %.2f, vol/invol switches %.3f/%.3f per "
+      "invoke\n",
+      what, (b.user - a.user) * 1e6 / n, (b.sys - a.sys) * 1e6 / n, double(b.minflt - a.minflt) / n,
+      double(b.nvcsw - a.nvcsw) / n, double(b.nivcsw - a.nivcsw) / n);
 }
 
 // One measurement: invokes per wall second and CPU microseconds per invoke.
@@ -109,6 +135,7 @@ Rate run_backend(nns::test::Instance &inst, int n) {
   std::vector<GstTensorMemory> ins{{in.data(), in.size()}};
   std::vector<GstTensorMemory> outs{{out.data(), out.size()}};
   for (int i = 0; i < 50; ++i) inst.invoke(ins, outs);
+  ThreadUse u0 = thread_use();
   double c0 = cpu_now(), tc0 = thread_cpu_now();
   auto t0 = Clock::now();
   for (int i = 0; i < n; ++i)
@@ -118,6 +145,7 @@ Rate run_backend(nns::test::Instance &inst, int n) {
     }
   double s = seconds_since(t0);
   double c = cpu_now() - c0, tc = thread_cpu_now() - tc0;
+  print_use("backend", u0, thread_use(), n);
   if (argmax(out.data()) != 9) std::fprintf(stderr, "backend: wrong class\n");
   return {n / s, c * 1e6 / n, tc * 1e6 / n};
 }
@@ -129,6 +157,7 @@ struct SinkCount {
   // Taken on the streaming thread when the warm-up ends and when the last timed buffer
   // arrives, so the window holds exactly the timed invokes (no EOS handling or bus wake-up).
   double cpu0 = 0, cpu1 = 0, thread_cpu0 = 0, thread_cpu1 = 0;
+  ThreadUse use0, use1;
   Clock::time_point t0, t1;
 };
 
@@ -138,6 +167,7 @@ GstPadProbeReturn on_buffer(GstPad *, GstPadProbeInfo *info, gpointer data) {
   auto *c = static_cast<SinkCount *>(data);
   int k = ++c->n;
   if (k == c->warm) {
+    c->use0 = thread_use();
     c->thread_cpu0 = thread_cpu_now();
     c->cpu0 = cpu_now();
     c->t0 = Clock::now();
@@ -146,6 +176,7 @@ GstPadProbeReturn on_buffer(GstPad *, GstPadProbeInfo *info, gpointer data) {
     c->t1 = Clock::now();
     c->cpu1 = cpu_now();
     c->thread_cpu1 = thread_cpu_now();
+    c->use1 = thread_use();
     GstBuffer *buf = GST_PAD_PROBE_INFO_BUFFER(info);
     GstMapInfo map;
     if (gst_buffer_map(buf, &map, GST_MAP_READ)) {
@@ -175,14 +206,20 @@ void on_need_data(GstAppSrc *src, guint, gpointer data) {
   }
 }
 
-Rate run_pipeline(int n, bool queued = false) {
+// Mean time of the back end's invoke inside the last pipeline (mode 'i': tensor_filter's own
+// throughput counter, read at the end), to tell a slower invoke from GStreamer's own cost.
+double g_invoke_us_in_pipeline = 0;
+
+Rate run_pipeline(int n, bool queued = false, bool count_invoke = false) {
   std::string desc =
       "appsrc name=src is-live=false format=time max-buffers=4 "
       "caps=other/tensors,format=static,num_tensors=1,dimensions=1:28:28:1,types=uint8,"
       "framerate=0/1 ! " +
-      std::string(queued ? "queue max-size-buffers=4 ! " : "") + "tensor_filter framework=pytorch model=" +
-      g_model + " input=1:28:28:1 inputtype=uint8 output=10:1 outputtype=uint8 custom=NumThreads:" +
-      std::to_string(g_threads) + " ! fakesink name=sink sync=false enable-last-sample=false";
+      std::string(queued ? "queue max-size-buffers=4 ! " : "") +
+      "tensor_filter framework=pytorch model=" + g_model +
+      " input=1:28:28:1 inputtype=uint8 output=10:1 outputtype=uint8 custom=NumThreads:" +
+      std::to_string(g_threads) + (count_invoke ? " name=f throughput=1" : "") +
+      " ! fakesink name=sink sync=false enable-last-sample=false";
   GError *err = nullptr;
   GstElement *p = gst_parse_launch(desc.c_str(), &err);
   if (!p || err) {
@@ -225,7 +262,15 @@ Rate run_pipeline(int n, bool queued = false) {
     std::fprintf(stderr, "pipeline: no EOS or lost buffers (%d of %d)\n", count.n.load(), warm + n);
   }
   if (m) gst_message_unref(m);
+  print_use("pipeline", count.use0, count.use1, n);
   if (count.bad.load()) std::fprintf(stderr, "pipeline: %d wrong results\n", count.bad.load());
+  if (count_invoke) {
+    GstElement *f = gst_bin_get_by_name(GST_BIN(p), "f");
+    gint milli_fps = 0;
+    g_object_get(f, "throughput", &milli_fps, nullptr);
+    g_invoke_us_in_pipeline = milli_fps > 0 ? 1e9 / milli_fps : 0;
+    gst_object_unref(f);
+  }
   gst_element_set_state(p, GST_STATE_NULL);
   gst_buffer_unref(feeder.buf);
   gst_object_unref(bus);
@@ -312,6 +357,32 @@ int main(int argc, char **argv) {
                     r + 1, kb, cr.per_s, cr.cpu_us);
       }
     }
+    if (modes.find('S') != std::string::npos) {  // the loop on a GStreamer streaming thread
+      struct Ctx {
+        nns::test::Instance *inst;
+        int n;
+        Rate r;
+      } ctx{&inst, n, {}};
+      GstElement *pl = gst_parse_launch("appsrc name=src ! fakesink", nullptr);
+      GstElement *src = gst_bin_get_by_name(GST_BIN(pl), "src");
+      GstAppSrcCallbacks cbs{};
+      cbs.need_data = [](GstAppSrc *s, guint, gpointer d) {
+        auto *c = static_cast<Ctx *>(d);
+        c->r = run_backend(*c->inst, c->n);
+        gst_app_src_end_of_stream(s);
+      };
+      gst_app_src_set_callbacks(GST_APP_SRC(src), &cbs, &ctx, nullptr);
+      gst_element_set_state(pl, GST_STATE_PLAYING);
+      GstBus *bus = gst_element_get_bus(pl);
+      GstMessage *msg = gst_bus_timed_pop_filtered(bus, 300 * GST_SECOND, GST_MESSAGE_EOS);
+      if (msg) gst_message_unref(msg);
+      gst_element_set_state(pl, GST_STATE_NULL);
+      gst_object_unref(bus);
+      gst_object_unref(src);
+      gst_object_unref(pl);
+      std::printf("round %d: backend loop on a streaming thread %.0f/s (cpu %.1f us)\n", r + 1,
+                  ctx.r.per_s, ctx.r.cpu_us);
+    }
     if (modes.find('B') != std::string::npos) {  // the same loop on another thread
       std::thread th([&] { b = run_backend(inst, n); });
       th.join();
@@ -327,11 +398,17 @@ int main(int argc, char **argv) {
       ratio.push_back(b.per_s > 0 ? p.per_s / b.per_s : 0);
       cratio.push_back(p.cpu_us > 0 ? b.cpu_us / p.cpu_us : 0);
     }
+    if (have_filter && modes.find('i') != std::string::npos) {  // the invoke inside the pipeline
+      Rate pi = run_pipeline(n, false, true);
+      std::printf(
+          "round %d: pipeline %.0f/s (cpu %.1f us), of which the back end's invoke %.1f us\n",
+          r + 1, pi.per_s, pi.cpu_us, g_invoke_us_in_pipeline);
+    }
     if (have_filter && modes.find('q') != std::string::npos) {  // appsrc ! queue ! tensor_filter
       Rate q = run_pipeline(n, true);
       rq.push_back(b.per_s > 0 ? q.per_s / b.per_s : 0);
-      std::printf("round %d: pipeline with a queue before the filter %.0f/s (cpu %.1f us)\n",
-                  r + 1, q.per_s, q.cpu_us);
+      std::printf("round %d: pipeline with a queue before the filter %.0f/s (cpu %.1f us)\n", r + 1,
+                  q.per_s, q.cpu_us);
     }
     std::printf(
         "round %d: torch %.0f/s (cpu %.1f us, thread %.1f)  backend %.0f/s (cpu %.1f, thread "
