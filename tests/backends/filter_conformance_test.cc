@@ -9,10 +9,8 @@
 // the model flavour it reads). To add a model: generate it and add its name to kModels.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <cstring>
-
 #include "backends/backend_loader.h"
+#include "support/harness.h"
 
 namespace nns::test {
 namespace {
@@ -51,11 +49,8 @@ class FilterConformance : public ::testing::TestWithParam<Param> {
       std::string why = ref_->why_not_written(kind.file_kind);
       if (why.empty())
         GTEST_SKIP() << "no '" << kind.file_kind << "' flavour of " << model << " by design";
-      const char *ci = std::getenv("CI");
-      if (ci && std::strcmp(ci, "true") == 0)
-        FAIL() << "CI=true: the '" << kind.file_kind << "' flavour of " << model
-               << " for back end '" << kind.framework << "' is missing: " << why;
-      GTEST_SKIP() << "the '" << kind.file_kind << "' flavour of " << model << " was " << why;
+      NNS_SKIP_UNLESS_CI("the '" << kind.file_kind << "' flavour of " << model << " for back end '"
+                                 << kind.framework << "' was " << why);
     }
   }
 

@@ -86,7 +86,7 @@ int gru_invoke(void *data, const GstTensorFilterProperties *, const GstTensorMem
 TEST(TensorRepoGru, RecurrentStateThroughTheRepositoryMatchesTorch) {
   GruData d;
   std::string path = std::string(NNS_FLOW_DATA_DIR) + "/gru_cell.bin";
-  if (!load(path, &d)) GTEST_SKIP() << path << " missing (python3-torch not installed?)";
+  if (!load(path, &d)) NNS_SKIP_UNLESS_CI(path << " missing (python3-torch not installed?)");
   GstTensorsInfo info{};
   info.num_tensors = 1;
   info.info[0].type = _NNS_FLOAT32;
@@ -131,9 +131,10 @@ struct BackEnd {
 void run_backend_cycle(const BackEnd &be) {
   GruData d;
   std::string dir = NNS_FLOW_DATA_DIR;
-  if (!load(dir + "/gru_cell.bin", &d)) GTEST_SKIP() << "gru_cell.bin missing (no python3-torch?)";
+  if (!load(dir + "/gru_cell.bin", &d))
+    NNS_SKIP_UNLESS_CI("gru_cell.bin missing (no python3-torch?)");
   std::string model = dir + "/" + be.model;
-  if (!std::ifstream(model)) GTEST_SKIP() << model << " missing";
+  if (!std::ifstream(model)) NNS_SKIP_UNLESS_CI(model << " missing");
   // The build tree's back ends (nnstreamer.ini of the build tree points tensor_filter there).
   std::string lib = std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_" +
                     be.framework + ".so";
