@@ -177,14 +177,14 @@ void on_change_state_pre(GObject *, GstClockTime, GstElement *element, GstStateC
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
 }
 
+// Kept for the process (the tracing registry uses it, without a reference of its own, and
+// gst_deinit forgets it).
+GstTracer *g_tracer = nullptr;
+
 void install_race_hook() {
-  static bool done = [] {
-    // Kept for the process: the tracing registry uses it.
-    auto *tracer = static_cast<GstTracer *>(g_object_new(test_tracer_get_type(), nullptr));
-    gst_tracing_register_hook(tracer, "element-change-state-pre", G_CALLBACK(on_change_state_pre));
-    return true;
-  }();
-  (void)done;
+  if (g_tracer) return;
+  g_tracer = static_cast<GstTracer *>(g_object_new(test_tracer_get_type(), nullptr));
+  gst_tracing_register_hook(g_tracer, "element-change-state-pre", G_CALLBACK(on_change_state_pre));
 }
 
 // Holds the first buffer until the sink's PAUSED->PLAYING has begun (at most 5 s).
