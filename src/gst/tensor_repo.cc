@@ -45,6 +45,17 @@ TensorRepo::Status TensorRepo::push(uint32_t slot, GstBuffer *buf, GstCaps *caps
   return Status::kOk;
 }
 
+TensorRepo::Status TensorRepo::try_push(uint32_t slot, GstBuffer *buf, GstCaps *caps) {
+  auto s = get(slot);
+  std::lock_guard<std::mutex> l(s->m);
+  if (s->eos) return Status::kEos;
+  if (s->buf) return Status::kFull;
+  s->buf = gst_buffer_ref(buf);
+  if (caps != s->caps) gst_caps_replace(&s->caps, caps);
+  s->cv.notify_all();
+  return Status::kOk;
+}
+
 TensorRepo::Status TensorRepo::pop(uint32_t slot, GstBuffer **buf, GstCaps **caps,
                                    const std::function<bool()> &cancelled) {
   auto s = get(slot);
@@ -86,24 +97,23 @@ guint RepoSlot::slot() const {
 void RepoSlot::set_property(guint index) {
   guint old = slot();
   index_ = index;
-  if (old != slot()) {
-    slot_changed_ = true;
-    TensorRepo::instance().wake(old);
-  }
+  // A waiter on the old slot sees slot() != the slot it waits on (checked under that slot's
+  // lock, which wake() takes after the store) and moves.
+  if (old != slot()) TensorRepo::instance().wake(old);
 }
 
 void RepoSlot::unlock() {
-  flushing_ = true;
+  unlocking_ = true;
+  ++generation_;
   TensorRepo::instance().wake(slot());
 }
 
-TensorRepo::Status RepoSlot::wait(const WaitFn &wait_on, guint *used) {
+TensorRepo::Status RepoSlot::wait(uint64_t ticket, const WaitFn &wait_on, guint *used) {
   for (;;) {
-    slot_changed_ = false;
     guint s = slot();
     *used = s;
-    auto st = wait_on(s, [this] { return flushing_ || slot_changed_; });
-    if (st != TensorRepo::Status::kCancelled || flushing_) return st;
+    auto st = wait_on(s, [&] { return cancelled_since(ticket) || slot() != s; });
+    if (st != TensorRepo::Status::kCancelled || cancelled_since(ticket)) return st;
     // slot-index changed while waiting: wait on the new slot
   }
 }

@@ -26,7 +26,8 @@ namespace nns::gst {
 
 class TensorRepo {
  public:
-  enum class Status { kOk, kEos, kCancelled };
+  // kFull only from try_push.
+  enum class Status { kOk, kEos, kCancelled, kFull };
 
   static TensorRepo &instance();
 
@@ -35,6 +36,8 @@ class TensorRepo {
   // Stores `buf` (a new reference is taken) and `caps` into the slot, waiting while the slot
   // still holds an untaken buffer. `cancelled()` is checked whenever the waiter wakes.
   Status push(uint32_t slot, GstBuffer *buf, GstCaps *caps, const std::function<bool()> &cancelled);
+  // Same without waiting: kFull when the slot still holds an untaken buffer.
+  Status try_push(uint32_t slot, GstBuffer *buf, GstCaps *caps);
   // Takes the slot's buffer (and a reference to its caps), waiting until there is one.
   Status pop(uint32_t slot, GstBuffer **buf, GstCaps **caps,
              const std::function<bool()> &cancelled);
@@ -53,7 +56,15 @@ class TensorRepo {
 };
 
 // One element's view of its slot (tensor_reposink / tensor_reposrc): the slot-index property,
-// the flushing flag of unlock/unlock_stop, and waits that follow a slot-index change.
+// cancellation by unlock/unlock_stop, and waits that follow a slot-index change.
+//
+// Cancellation follows the unlock protocol of GstBaseSink / GstBaseSrc: unlock() may come
+// from any thread; unlock_stop() comes once the element has taken the lock the streaming thread
+// holds outside its waits. A wait is cancelled when
+//   - an unlock() is still pending (made, and unlock_stop() not called yet), or
+//   - an unlock() was made since the wait's ticket was taken, even if unlock_stop() followed
+//     before the waiter woke up (a generation count, so such a cancel is never lost when the
+//     waiter does not hold that lock while it waits, as tensor_reposink's render).
 class RepoSlot {
  public:
   static constexpr guint kUnset = G_MAXUINT;
@@ -65,20 +76,27 @@ class RepoSlot {
   // Sets the slot-index property; a wait on the old slot moves to the new one.
   void set_property(guint index);
   guint slot() const;
-  bool flushing() const { return flushing_; }
-  void unlock();  // flushing: wakes the wait
-  void unlock_stop() { flushing_ = false; }
+
+  // The current unlock generation, to pass to wait().
+  uint64_t ticket() const { return generation_; }
+  // An unlock() is pending (no unlock_stop() since).
+  bool unlocking() const { return unlocking_; }
+  void unlock();  // cancels waits (see above) and wakes them
+  void unlock_stop() { unlocking_ = false; }
 
   // Runs `wait_on(slot, cancelled)` (a TensorRepo push or pop) until it is not interrupted by a
-  // slot-index change. kCancelled means flushing. `*used` receives the slot waited on.
+  // slot-index change. kCancelled means unlocked since `ticket` (or still unlocking). `*used`
+  // receives the slot waited on.
   using WaitFn = std::function<TensorRepo::Status(uint32_t, const std::function<bool()> &)>;
-  TensorRepo::Status wait(const WaitFn &wait_on, guint *used);
+  TensorRepo::Status wait(uint64_t ticket, const WaitFn &wait_on, guint *used);
 
  private:
+  bool cancelled_since(uint64_t ticket) const { return unlocking_ || generation_ != ticket; }
+
   const bool unset_means_zero_;
   std::atomic<guint> index_;
-  std::atomic<bool> flushing_{false};
-  std::atomic<bool> slot_changed_{false};
+  std::atomic<uint64_t> generation_{0};
+  std::atomic<bool> unlocking_{false};
 };
 
 }  // namespace nns::gst

@@ -8,16 +8,17 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <thread>
 
 #include "elements/flow_harness.h"
+#include "support/deadline.h"
 #include "gst/tensor_repo.h"
 
 namespace {
 
 using nns::test::AppPipeline;
 using nns::test::Bytes;
+using nns::test::finish_within;
 using nns::test::Frame;
 
 const char *kF4Caps =
@@ -27,12 +28,6 @@ const char *kF4Caps =
 std::string repo_src(int slot, const std::string &caps, const std::string &extra = "") {
   return "tensor_reposrc name=rsrc slot-index=" + std::to_string(slot) + " caps=\"" + caps + "\" " +
          extra;
-}
-
-// Runs `f` on another thread; false if it did not finish within `seconds` (a hang).
-bool finishes_within(double seconds, const std::function<void()> &f) {
-  auto fut = std::async(std::launch::async, f);
-  return fut.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready;
 }
 
 TEST(TensorRepo, SelfLoopCirculatesTheZeroFrameAndEnds) {
@@ -71,7 +66,7 @@ TEST(TensorRepo, RecurrenceThroughTheApplicationMatchesReference) {
   ASSERT_NE(gst_element_set_state(pipe, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
   std::vector<float> ref(4, 0.0f);
   const int steps = 20;
-  bool ok = finishes_within(10, [&] {
+  finish_within(30, "the recurrence", [&] {
     for (int t = 0; t <= steps; ++t) {
       GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(st), 5 * GST_SECOND);
       ASSERT_NE(s, nullptr) << "no state at step " << t;
@@ -95,8 +90,8 @@ TEST(TensorRepo, RecurrenceThroughTheApplicationMatchesReference) {
     EXPECT_EQ(GST_MESSAGE_TYPE(m), GST_MESSAGE_EOS);
     gst_message_unref(m);
   });
-  EXPECT_TRUE(ok) << "recurrence did not finish (deadlock?)";
-  gst_element_set_state(pipe, GST_STATE_NULL);
+  finish_within(30, "setting the pipeline to NULL",
+                [&] { gst_element_set_state(pipe, GST_STATE_NULL); });
   gst_object_unref(in);
   gst_object_unref(st);
   gst_object_unref(pipe);
@@ -165,13 +160,12 @@ TEST(TensorRepo, HundredPlayingNullCyclesNoHangNoLeak) {
                    &handoffs);
   for (int i = 0; i < 100; ++i) {
     int before = handoffs;
-    bool ok = finishes_within(10, [&] {
+    finish_within(30, "PLAYING<->NULL cycle " + std::to_string(i), [&] {
       gst_element_set_state(pipe, GST_STATE_PLAYING);
       for (int k = 0; k < 200 && handoffs < before + 2; ++k)
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       gst_element_set_state(pipe, GST_STATE_NULL);
     });
-    ASSERT_TRUE(ok) << "cycle " << i << " hung";
     EXPECT_GE(handoffs, before + 2) << "cycle " << i << " did not circulate";
   }
   EXPECT_FALSE(nns::gst::TensorRepo::instance().has_buffer(41));
@@ -183,14 +177,21 @@ TEST(TensorRepo, HundredPlayingNullCyclesNoHangNoLeak) {
 }
 
 TEST(TensorRepo, StopWhileWriterWaitsDoesNotHang) {
-  // The writer blocks (nobody reads slot 51); going to NULL must wake it.
+  // The writer blocks (nobody reads slot 51); going to NULL must wake it. The buffers are queued
+  // before PLAYING, so the first can reach the sink while it goes PAUSED->PLAYING (the
+  // streaming thread then commits PLAYING itself and renders the second one at once): the state
+  // change must not wait for the writer either.
   AppPipeline p("appsrc name=in ! tensor_reposink slot-index=51");
   p.set_caps("in", kF4Caps);
   for (int i = 0; i < 5; ++i) p.push("in", Frame({Bytes(16, 1)}, i * GST_MSECOND));
-  gst_element_set_state(p.pipeline(), GST_STATE_PLAYING);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  finish_within(30, "NULL->PLAYING with a writer that fills slot 51", [&] {
+    EXPECT_EQ(gst_element_set_state(p.pipeline(), GST_STATE_PLAYING), GST_STATE_CHANGE_SUCCESS);
+    for (int k = 0; k < 5000 && !nns::gst::TensorRepo::instance().has_buffer(51); ++k)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
   EXPECT_TRUE(nns::gst::TensorRepo::instance().has_buffer(51));
-  EXPECT_TRUE(finishes_within(5, [&] { gst_element_set_state(p.pipeline(), GST_STATE_NULL); }));
+  finish_within(30, "PLAYING->NULL with the writer waiting",
+                [&] { gst_element_set_state(p.pipeline(), GST_STATE_NULL); });
 }
 
 TEST(TensorRepo, PropertiesAsUpstream) {
@@ -202,8 +203,16 @@ TEST(TensorRepo, PropertiesAsUpstream) {
   EXPECT_EQ(slot, G_MAXUINT);  // upstream's "unset"
   g_object_get(sink, "slot-index", &slot, nullptr);
   EXPECT_EQ(slot, 0u);
+  // As upstream's GParamSpec: range 0..G_MAXUINT-1, declared default 0; the instance reads
+  // G_MAXUINT until set, which is what gst-inspect prints as the default (it shows the value
+  // read from a new element).
   auto *ps = G_PARAM_SPEC_UINT(g_object_class_find_property(G_OBJECT_GET_CLASS(src), "slot-index"));
   EXPECT_EQ(ps->maximum, G_MAXUINT - 1);
+  EXPECT_EQ(ps->default_value, 0u);
+  auto *pk =
+      G_PARAM_SPEC_UINT(g_object_class_find_property(G_OBJECT_GET_CLASS(sink), "slot-index"));
+  EXPECT_EQ(pk->maximum, G_MAXUINT);
+  EXPECT_EQ(pk->default_value, 0u);
   auto *rate =
       G_PARAM_SPEC_UINT(g_object_class_find_property(G_OBJECT_GET_CLASS(sink), "signal-rate"));
   EXPECT_EQ(rate->maximum, 500u);

@@ -140,28 +140,63 @@ static gboolean reposink_set_caps(GstBaseSink *sink, GstCaps *caps) {
   });
 }
 
+// Rate limit of `signal-rate`: whether this buffer is handed off (the first always is).
+static bool rate_allows(RepoSinkPriv *p) {
+  guint rate = p->signal_rate;
+  if (rate == 0) return true;
+  gint64 now = g_get_monotonic_time();
+  if (p->last_push_us >= 0 && now < p->last_push_us + G_USEC_PER_SEC / rate) return false;
+  p->last_push_us = now;
+  return true;
+}
+
+// Called with the preroll lock held (GstBaseSink holds it around render). A full slot is waited
+// for with that lock released, as GstBaseSink's own clock waits do: a state change that takes
+// the lock without calling unlock() first (PAUSED->PLAYING, which can run while render already
+// runs when the streaming thread committed the PLAYING state) must not wait for the reader.
+// unlock() (PLAYING->PAUSED, flushing, shutdown) cancels the wait; then, as GstBaseSink asks of
+// a render that blocks, we wait for PLAYING again and retry the same buffer, so pausing neither
+// drops it nor stops upstream.
 static GstFlowReturn reposink_render(GstBaseSink *sink, GstBuffer *buf) {
+  using Status = nns::gst::TensorRepo::Status;
   auto *self = GST_TENSOR_REPOSINK(sink);
   auto *p = self->priv;
-  guint rate = p->signal_rate;
-  if (rate > 0) {
-    gint64 now = g_get_monotonic_time();
-    if (p->last_push_us >= 0 && now < p->last_push_us + G_USEC_PER_SEC / rate) return GST_FLOW_OK;
-    p->last_push_us = now;
-  }
+  if (!rate_allows(p)) return GST_FLOW_OK;
   auto &repo = nns::gst::TensorRepo::instance();
-  guint slot = 0;
-  auto st = p->slot.wait(
-      [&](uint32_t s, const std::function<bool()> &cancelled) {
-        return repo.push(s, buf, p->caps, cancelled);
-      },
-      &slot);
-  if (st == nns::gst::TensorRepo::Status::kEos) return GST_FLOW_EOS;
-  if (st == nns::gst::TensorRepo::Status::kCancelled) return GST_FLOW_FLUSHING;
-  if (!p->silent)
-    GST_INFO_OBJECT(self, "slot %u <- buffer pts %" GST_TIME_FORMAT, slot,
-                    GST_TIME_ARGS(GST_BUFFER_PTS(buf)));
-  return GST_FLOW_OK;
+  for (;;) {
+    // Under the preroll lock: an unlock() before this point is still pending (its unlock_stop
+    // needs the lock), a later one changes the ticket.
+    uint64_t ticket = p->slot.ticket();
+    guint slot = p->slot.slot();
+    Status st = p->slot.unlocking() ? Status::kCancelled : repo.try_push(slot, buf, p->caps);
+    if (st == Status::kFull) {
+      GST_BASE_SINK_PREROLL_UNLOCK(sink);
+      st = p->slot.wait(
+          ticket,
+          [&](uint32_t s, const std::function<bool()> &cancelled) {
+            return repo.push(s, buf, p->caps, cancelled);
+          },
+          &slot);
+      GST_BASE_SINK_PREROLL_LOCK(sink);
+    }
+    if (st == Status::kOk) {
+      if (!p->silent)
+        GST_INFO_OBJECT(self, "slot %u <- buffer pts %" GST_TIME_FORMAT, slot,
+                        GST_TIME_ARGS(GST_BUFFER_PTS(buf)));
+      return GST_FLOW_OK;
+    }
+    if (st == Status::kEos) return GST_FLOW_EOS;
+    // Cancelled.
+    if (sink->flushing) return GST_FLOW_FLUSHING;
+    // An unlock() still pending: its caller is about to take the preroll lock; wait_preroll
+    // lets it, and returns on PLAYING (OK) or flushing. Otherwise the state change is done
+    // (we may be PAUSED, or already PLAYING again): do_preroll commits the state and waits only
+    // while not PLAYING, as GstBaseSink does after a clock wait was unscheduled.
+    GstFlowReturn ret = p->slot.unlocking()
+                            ? gst_base_sink_wait_preroll(sink)
+                            : gst_base_sink_do_preroll(sink, GST_MINI_OBJECT_CAST(buf));
+    if (ret != GST_FLOW_OK) return ret;  // FLUSHING, or a step (GstBaseSink then retries)
+  }
 }
 
 static void gst_tensor_reposink_finalize(GObject *object) {

@@ -210,7 +210,9 @@ static GstFlowReturn reposrc_create(GstPushSrc *src, GstBuffer **out) {
     guint slot = 0;
     GstBuffer *buf = nullptr;
     GstCaps *caps = nullptr;
+    // create runs under the pad's stream lock, which unlock_stop (GstBaseSrc) waits for.
     auto st = p->slot.wait(
+        p->slot.ticket(),
         [&](uint32_t s, const std::function<bool()> &cancelled) {
           return repo.pop(s, &buf, &caps, cancelled);
         },
