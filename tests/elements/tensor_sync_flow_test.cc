@@ -7,11 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <functional>
-#include <future>
 #include <thread>
 
 #include "elements/stream_util.h"
+#include "support/deadline.h"
 
 namespace nns::test {
 namespace {
@@ -19,11 +18,6 @@ namespace {
 constexpr GstClockTime k30 = 33333333;
 const char *kCaps =
     "other/tensors,format=static,num_tensors=1,dimensions=(string)4,types=uint8,framerate=30/1";
-
-bool finishes_within(double seconds, const std::function<void()> &f) {
-  auto fut = std::async(std::launch::async, f);
-  return fut.wait_for(std::chrono::duration<double>(seconds)) == std::future_status::ready;
-}
 
 // Two harnesses on one tensor_mux (sink_0 carries the src side).
 struct TwoPads {
@@ -158,8 +152,8 @@ TEST(TensorSyncFlow, ProducerWaitsForRoomAndIsWoken) {
 // it is not paired with frames from long ago; a non-live one queues many.
 TEST(TensorSyncFlow, LiveInputsQueueLittle) {
   for (bool live : {true, false}) {
-    Pipe p(two_appsrc_mux("nosync", std::string("max-buffers=0 is-live=") +
-                                        (live ? "true" : "false") + " "));
+    Pipe p(two_appsrc_mux("nosync",
+                          std::string("max-buffers=0 is-live=") + (live ? "true" : "false") + " "));
     for (int i = 0; i < 20; ++i) p.push("a0", make_buffer({{0, 0, 0, 0}}, i * k30));
     ASSERT_NE(gst_element_set_state(p.pipeline(), GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -179,7 +173,8 @@ TEST(TensorSyncFlow, StopWhileAProducerWaitsForRoom) {
   for (int i = 0; i < 200; ++i) p.push("a0", make_buffer({{0, 0, 0, 0}}, i * k30));
   ASSERT_NE(gst_element_set_state(p.pipeline(), GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  EXPECT_TRUE(finishes_within(5, [&] { gst_element_set_state(p.pipeline(), GST_STATE_NULL); }));
+  finish_within(5, "PLAYING->NULL while a producer waits for room",
+                [&] { gst_element_set_state(p.pipeline(), GST_STATE_NULL); });
 }
 
 // A tee pushing to two pads of one mux from a single thread (no queues): the first pad's
