@@ -27,8 +27,9 @@ class FilterError : public std::runtime_error {
 };
 
 // invoke-async: where the outputs of one input go (wraps nns_filter_async_ctx). A plain value:
-// copy it into a worker, keep it after invoke_async returned, use it from any thread. Every
-// call is safe even after the filter stopped (it then returns -ESHUTDOWN and does nothing).
+// copy it into a worker, keep it after invoke_async returned, use it from any thread (one copy
+// per thread: error() is per object). Every call is safe even after the filter stopped (it
+// then returns -ESHUTDOWN and does nothing).
 class AsyncEmitter {
  public:
   AsyncEmitter() = default;
