@@ -4,7 +4,7 @@
 set(NNS_TEST_FILTER_DIR ${CMAKE_BINARY_DIR}/tests/filter)
 set(_d ${CMAKE_CURRENT_SOURCE_DIR}/data/filter)
 set(_targets)
-foreach(n custom_passthrough custom_scaler custom_nosym)
+foreach(n custom_passthrough custom_scaler custom_nosym custom_async)
   add_library(nns_test_${n} MODULE ${_d}/${n}.c)
   set_target_properties(nns_test_${n} PROPERTIES PREFIX "lib" OUTPUT_NAME "${n}"
                         LIBRARY_OUTPUT_DIRECTORY ${NNS_TEST_FILTER_DIR})

@@ -7,11 +7,13 @@
  *
  *   const nns_filter_backend_i *nns_filter_backend_entry(void);
  *
- * which returns a static table. The loader rejects a table whose api_version differs from
- * NNS_FILTER_BACKEND_API_VERSION with a message naming both versions. Every function returns 0
- * on success or a negative errno value, and on failure writes a message into err (errlen bytes,
- * always NUL-terminated) that names the cause; the host posts it on the GStreamer bus together
- * with the model path.
+ * which returns a static table. The loader accepts an api_version from
+ * NNS_FILTER_BACKEND_API_VERSION_MIN to NNS_FILTER_BACKEND_API_VERSION and rejects any other
+ * with a message naming both versions. A version 1 table ends at check_accelerator: fields added
+ * later are read only from tables whose version has them, so back ends built against older
+ * headers keep loading unchanged. Every function returns 0 on success or a negative errno
+ * value, and on failure writes a message into err (errlen bytes, always NUL-terminated) that
+ * names the cause; the host posts it on the GStreamer bus together with the model path.
  *
  * Back ends written in C++ can derive from nns::FilterBackend (nns_filter_backend.hh) instead
  * of filling this table by hand.
@@ -28,7 +30,9 @@
 extern "C" {
 #endif
 
-#define NNS_FILTER_BACKEND_API_VERSION 1u
+/* 2: invoke_async, nns_filter_props.invoke_async. */
+#define NNS_FILTER_BACKEND_API_VERSION 2u
+#define NNS_FILTER_BACKEND_API_VERSION_MIN 1u
 #define NNS_FILTER_BACKEND_ENTRY "nns_filter_backend_entry"
 #define NNS_TENSOR_NAME_MAX 256
 
@@ -62,7 +66,47 @@ typedef struct {
   const tensor_layout *output_layout; /* NNS_TENSOR_SIZE_LIMIT entries */
   int invoke_dynamic;             /* invoke-dynamic=true */
   int num_threads;                /* 0: back end default */
+  /* Version 2. */
+  int invoke_async; /* invoke-async=true and the table has invoke_async: it will be called */
 } nns_filter_props;
+
+/* invoke-async (version 2) ------------------------------------------------------------------
+ *
+ * With invoke-async=true, tensor_filter calls invoke_async instead of invoke. The back end
+ * takes the input and emits 0..N output sets through ctx->dispatch, during the call or later
+ * from any thread; each becomes one output buffer. The input itself produces no buffer. */
+
+/* No more outputs for this input (dispatch flags). */
+#define NNS_FILTER_ASYNC_LAST 1u
+/* invoke_async result: outputs of this input will follow; the back end ends the input with a
+ * dispatch flagged NNS_FILTER_ASYNC_LAST (EOS is held back until then). */
+#define NNS_FILTER_ASYNC_PENDING 1
+/* "No timestamp" in nns_filter_async_ctx (GST_CLOCK_TIME_NONE). */
+#define NNS_FILTER_TIME_NONE UINT64_MAX
+
+typedef struct nns_filter_async_ctx nns_filter_async_ctx;
+
+/* Emits one output set for the input of `ctx`: num_out tensors out[i] described by `info`
+ * (NULL: the negotiated output tensors, which must then be static). The host copies the data;
+ * the caller keeps ownership of out[i].data. out may be NULL with num_out 0 (only the flags
+ * count). Thread-safe; callable at any time, also after the filter stopped. Returns 0, or
+ *   -EINVAL     the tensors do not match the negotiated output (err says how; not pushed),
+ *   -ESHUTDOWN  the filter stopped (nothing happens),
+ *   -ECANCELED  the stream was flushed after this input (the output is dropped),
+ *   -EPIPE      downstream refused the buffer (EOS, not linked, error). */
+typedef int (*nns_filter_dispatch_fn)(const nns_filter_async_ctx *ctx, const nns_tensors_desc *info,
+                                      const GstTensorMemory *out, uint32_t num_out, uint32_t flags,
+                                      char *err, size_t errlen);
+
+/* Where the outputs of one input go. A plain value: copy it, keep it as long as you like. */
+struct nns_filter_async_ctx {
+  nns_filter_dispatch_fn dispatch;
+  uint64_t target; /* host-private: the filter */
+  uint64_t input;  /* host-private: the input */
+  /* The input's timestamps (ns, NNS_FILTER_TIME_NONE when unset). Every output dispatched
+   * with this context gets them; a back end may change its copy before dispatching. */
+  uint64_t pts, dts, duration;
+};
 
 /* Event codes for handle_event. */
 typedef enum {
@@ -122,6 +166,16 @@ typedef struct nns_filter_backend_i {
   int (*handle_event)(void *priv, nns_filter_event event, char *err, size_t errlen);
   /* Whether an accelerator ("cpu", "gpu", "npu", ...) is usable. May be NULL (cpu only). */
   int (*check_accelerator)(const char *accl);
+
+  /* ---- Version 2 ---- */
+
+  /* invoke-async=true: hands one input to the back end (in_info: its tensors; in[i] valid
+   * during the call only). Outputs go through ctx->dispatch (copy *ctx to use it later).
+   * Returns 0 when every output of this input has been dispatched (or there is none),
+   * NNS_FILTER_ASYNC_PENDING when more follow, negative on error. NULL: invoke-async is not
+   * supported (the element then invokes synchronously and posts a warning). */
+  int (*invoke_async)(void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
+                      uint32_t num_in, const nns_filter_async_ctx *ctx, char *err, size_t errlen);
 } nns_filter_backend_i;
 
 /* Exported by every back-end .so. */

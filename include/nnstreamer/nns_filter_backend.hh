@@ -26,6 +26,54 @@ class FilterError : public std::runtime_error {
   int code_;
 };
 
+// invoke-async: where the outputs of one input go (wraps nns_filter_async_ctx). A plain value:
+// copy it into a worker, keep it after invoke_async returned, use it from any thread (one copy
+// per thread: error() is per object). Every call is safe even after the filter stopped (it
+// then returns -ESHUTDOWN and does nothing).
+class AsyncEmitter {
+ public:
+  AsyncEmitter() = default;
+  explicit AsyncEmitter(const nns_filter_async_ctx &ctx) : ctx_(ctx) {}
+
+  // Emits one output set (copied by the host). `info` describes `out`; nullptr means the
+  // negotiated (static) output tensors. last=true ends this input. Returns 0 or a negative
+  // errno (see nns_filter_dispatch_fn); error() then holds the host's message.
+  int emit(const GstTensorMemory *out, uint32_t num_out, const nns_tensors_desc *info = nullptr,
+           bool last = false) const {
+    return call(info, out, num_out, last ? NNS_FILTER_ASYNC_LAST : 0u);
+  }
+  // Ends this input without another output.
+  int finish() const { return call(nullptr, nullptr, 0, NNS_FILTER_ASYNC_LAST); }
+  const std::string &error() const { return error_; }
+  bool valid() const { return ctx_.dispatch != nullptr; }
+
+  // The input's timestamps (NNS_FILTER_TIME_NONE when unset); outputs carry them.
+  uint64_t pts() const { return ctx_.pts; }
+  void set_timestamps(uint64_t pts, uint64_t dts, uint64_t duration) {
+    ctx_.pts = pts;
+    ctx_.dts = dts;
+    ctx_.duration = duration;
+  }
+  const nns_filter_async_ctx &ctx() const { return ctx_; }
+
+ private:
+  int call(const nns_tensors_desc *info, const GstTensorMemory *out, uint32_t n,
+           uint32_t flags) const {
+    if (!ctx_.dispatch) {
+      error_ = "no invoke-async context";
+      return -EINVAL;
+    }
+    char err[512];
+    err[0] = '\0';
+    int rc = ctx_.dispatch(&ctx_, info, out, n, flags, err, sizeof err);
+    error_ = rc == 0 ? std::string() : std::string(err);
+    return rc;
+  }
+
+  nns_filter_async_ctx ctx_{};
+  mutable std::string error_;
+};
+
 class FilterBackend {
  public:
   virtual ~FilterBackend() = default;
@@ -50,6 +98,19 @@ class FilterBackend {
     (void)out_info;
     (void)out;
     throw FilterError("this back end does not support invoke-dynamic", -ENOTSUP);
+  }
+  // invoke-async=true: take the input (in[] valid during the call only) and emit 0..N outputs
+  // through `out`, now or later from any thread. Return true when more outputs of this input
+  // will follow (end them with out.emit(..., true) or out.finish(): EOS waits for that), false
+  // when everything has been emitted. Back ends that do not override this do not support
+  // invoke-async; the element then calls invoke() and posts a warning.
+  virtual bool invoke_async(const nns_tensors_desc &in_info, const GstTensorMemory *in,
+                            uint32_t num_in, const AsyncEmitter &out) {
+    (void)in_info;
+    (void)in;
+    (void)num_in;
+    (void)out;
+    throw FilterError("this back end does not support invoke-async", -ENOTSUP);
   }
   virtual void free_output(void *data) { (void)data; }
   virtual void reload(const nns_filter_props &props) {
@@ -135,6 +196,19 @@ struct FilterBackendAdapter {
     return rc ? rc : (handled ? 0 : -ENOTSUP);
   }
 
+  static int invoke_async(void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
+                          uint32_t num_in, const nns_filter_async_ctx *ctx, char *err,
+                          std::size_t errlen) {
+    bool pending = false;
+    int rc = detail::call(err, errlen, [&] {
+      pending = self(priv)->invoke_async(*in_info, in, num_in, AsyncEmitter(*ctx));
+    });
+    return rc ? rc : (pending ? NNS_FILTER_ASYNC_PENDING : 0);
+  }
+  // Whether T overrides invoke_async (then the table offers it).
+  static constexpr bool kAsync =
+      !std::is_same_v<decltype(&T::invoke_async), decltype(&FilterBackend::invoke_async)>;
+
   static nns_filter_backend_i make(const char *name, uint32_t flags,
                                    const char *const *extensions) {
     nns_filter_backend_i t{};
@@ -152,6 +226,7 @@ struct FilterBackendAdapter {
     t.reload = &reload;
     t.handle_event = &handle_event;
     t.check_accelerator = nullptr;
+    t.invoke_async = kAsync ? &invoke_async : nullptr;
     return t;
   }
 };
@@ -159,10 +234,10 @@ struct FilterBackendAdapter {
 }  // namespace nns
 
 // Exports `nns_filter_backend_entry` for back end class T from a shared object.
-#define NNS_FILTER_BACKEND_EXPORT(T, name, flags, extensions)                              \
-  extern "C" __attribute__((visibility("default"))) const nns_filter_backend_i *           \
-  nns_filter_backend_entry(void) {                                                         \
-    static const nns_filter_backend_i table =                                              \
-        ::nns::FilterBackendAdapter<T>::make(name, flags, extensions);                     \
-    return &table;                                                                          \
+#define NNS_FILTER_BACKEND_EXPORT(T, name, flags, extensions)                    \
+  extern "C" __attribute__((visibility("default"))) const nns_filter_backend_i * \
+  nns_filter_backend_entry(void) {                                               \
+    static const nns_filter_backend_i table =                                    \
+        ::nns::FilterBackendAdapter<T>::make(name, flags, extensions);           \
+    return &table;                                                               \
   }

@@ -59,14 +59,52 @@ typedef struct _GstTensorFilterProperties {
   const char *accl_str; /* accelerator= as given */
   char *shared_tensor_filter_key;
 
-  int latency;        /* average invoke latency (us) when latency=1 */
-  int throughput;     /* outputs per second x 1000 when throughput=1 */
-  int invoke_dynamic; /* invoke-dynamic=true */
-  uint32_t suspend;   /* suspend= (ms) */
-  int invoke_async;   /* invoke-async=true */
-  void *async_callback;
-  void *async_user_data;
+  int latency;           /* average invoke latency (us) when latency=1 */
+  int throughput;        /* outputs per second x 1000 when throughput=1 */
+  int invoke_dynamic;    /* invoke-dynamic=true */
+  uint32_t suspend;      /* suspend= (ms) */
+  int invoke_async;      /* invoke-async=true: send outputs with the functions below */
+  void *async_callback;  /* host-private (set when invoke_async is set) */
+  void *async_user_data; /* host-private */
 } GstTensorFilterProperties;
+
+/* invoke-async -----------------------------------------------------------------------------
+ *
+ * With invoke-async=true (prop->invoke_async != 0), tensor_filter ignores what invoke writes
+ * into its output array: outputs are sent with the functions below, each becoming one output
+ * buffer with the timestamps of the input it belongs to. A negative return from invoke is
+ * still an error; other values are ignored. */
+
+/* NNStreamer's call: emits output[0..n) described by prop->output_meta (which the filter may
+ * update before the call, e.g. per generated token; n = output_meta.num_tensors). The output
+ * belongs to the input most recently invoked, and is copied; as in NNStreamer, the data
+ * blocks are then released by tensor_filter: with the custom filter's destroy_notify when it
+ * has one, else free() (allocate them with malloc/strdup/g_malloc). Call it during invoke or
+ * from another thread while the filter is open (prop is freed when the filter closes).
+ * Returns 0 or a negative errno (-EINVAL: not an invoke-async filter or output_meta does
+ * not match the data; -ESHUTDOWN: the element stopped). */
+int nnstreamer_filter_dispatch_output_async(GstTensorFilterProperties *prop,
+                                            GstTensorMemory *output);
+
+/* nnstreamer-cpp extension: a handle naming the input being invoked, usable after invoke
+ * returned, from any thread, also after the filter closed (calls then return -ESHUTDOWN). */
+typedef struct _GstTensorFilterAsyncHandle {
+  uint64_t opaque[8];
+} GstTensorFilterAsyncHandle;
+
+/* Call during invoke: fills *handle for the current input and announces that its outputs
+ * follow later: EOS waits until the filter ends the input (last != 0 below). Returns 0, or
+ * -EINVAL when prop is not in an invoke with invoke-async=true. */
+int nnstreamer_filter_async_capture(const GstTensorFilterProperties *prop,
+                                    GstTensorFilterAsyncHandle *handle);
+
+/* Emits output[0..info->num_tensors) (info NULL: the negotiated output tensors) for the input
+ * of `handle`; last != 0 ends that input (output may then be NULL: no buffer). The data is
+ * copied; the caller keeps ownership. Returns 0 or a negative errno as
+ * nnstreamer_filter_dispatch_output_async(); also -ECANCELED after a flush. */
+int nnstreamer_filter_async_dispatch(const GstTensorFilterAsyncHandle *handle,
+                                     const GstTensorsInfo *info, const GstTensorMemory *output,
+                                     int last);
 
 #ifdef __cplusplus
 }

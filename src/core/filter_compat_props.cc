@@ -47,6 +47,11 @@ CompatProps::CompatProps(const nns_filter_props &p) {
   prop_.custom_properties = p.custom ? custom_.c_str() : nullptr;
   prop_.accl_str = p.accelerator ? accl_.c_str() : nullptr;
   prop_.invoke_dynamic = p.invoke_dynamic;
+  if (p.invoke_async) {
+    prop_.invoke_async = 1;
+    prop_.async_callback = reinterpret_cast<void *>(&nnstreamer_filter_dispatch_output_async);
+    prop_.async_user_data = &async_;
+  }
   for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i) {
     prop_.input_layout[i] = p.input_layout ? p.input_layout[i] : _NNS_LAYOUT_ANY;
     prop_.output_layout[i] = p.output_layout ? p.output_layout[i] : _NNS_LAYOUT_ANY;

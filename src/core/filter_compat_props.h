@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/filter_compat_async.h"
 #include "nns_filter_backend.h"
 #include "nnstreamer_plugin_api_filter.h"
 
@@ -25,9 +26,12 @@ class CompatProps {
   void set_output(const nns_tensors_desc &d);
   void set_input(const GstTensorsInfo &i);
   void set_output(const GstTensorsInfo &i);
+  // invoke-async state (prop_.async_user_data points at it).
+  CompatAsync &async() { return async_; }
 
  private:
   GstTensorFilterProperties prop_;
+  CompatAsync async_;
   std::string fwname_, custom_, accl_;
   std::vector<std::string> models_;
   std::vector<const char *> model_ptrs_;

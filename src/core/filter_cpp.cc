@@ -213,6 +213,31 @@ int cpp_invoke(void *priv, const GstTensorMemory *in, uint32_t, GstTensorMemory 
   return rc;
 }
 
+// invoke-async: the object sends its outputs with nnstreamer_filter_dispatch_output_async(prop)
+// or a captured handle; what invoke writes into `out` is ignored.
+int cpp_invoke_async(void *priv, const nns_tensors_desc *, const GstTensorMemory *in, uint32_t,
+                     const nns_filter_async_ctx *ctx, char *err, size_t len) {
+  auto *c = static_cast<CppPriv *>(priv);
+  std::lock_guard lk(c->entry->call_mu);
+  tensor_filter_cpp *o = c->entry->obj;
+  A::set_prop(o, c->props->get());
+  CompatAsync &a = c->props->async();
+  ScratchOutputs out(c->props->get()->output_meta);
+  bool preallocated = o->isAllocatedBeforeInvoke();
+  GstTensorMemory *mem = out.get();
+  if (!preallocated)
+    for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i) mem[i].data = nullptr;
+  a.begin(*ctx);
+  int rc = o->invoke(in, mem);
+  bool pending = a.end();
+  if (!preallocated)
+    for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i) std::free(mem[i].data);
+  if (rc < 0)
+    return set_err(err, len, "cpp filter '" + c->name + "' invoke returned " + std::to_string(rc),
+                   rc);
+  return pending ? NNS_FILTER_ASYNC_PENDING : 0;
+}
+
 }  // namespace
 
 const nns_filter_backend_i *builtin_cpp_backend() {
@@ -226,6 +251,7 @@ const nns_filter_backend_i *builtin_cpp_backend() {
     t.get_model_info = cpp_model_info;
     t.set_input_info = cpp_set_input;
     t.invoke = cpp_invoke;
+    t.invoke_async = cpp_invoke_async;
     return t;
   }();
   return &table;

@@ -28,6 +28,15 @@ struct CustomSo {
   std::vector<GstTensorMemory> scratch;  // allocate_invoke results
 };
 
+// A block the filter allocated: its destroy_notify, else free().
+void release_block(void *cls, void *data) {
+  auto *k = static_cast<NNStreamer_custom_class *>(cls);
+  if (k->destroy_notify)
+    k->destroy_notify(data);
+  else
+    std::free(data);
+}
+
 int custom_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
   if (p->num_models < 1 || !p->model_files || !p->model_files[0])
     return set_err(err, len, "framework=custom needs model=<path of the custom filter .so>");
@@ -35,6 +44,7 @@ int custom_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
   c->path = p->model_files[0];
   // dlopen() searches the library path for names without '/'; model= means a file here.
   if (c->path.find('/') == std::string::npos) c->path = "./" + c->path;
+  promote_filter_api();  // the filter may call nnstreamer_filter_dispatch_output_async()
   dlerror();
   c->dl = dlopen(c->path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!c->dl) {
@@ -64,6 +74,7 @@ int custom_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
     return close_dl("custom filter '" + c->path +
                     "' must define exactly one of invoke and allocate_invoke");
   c->props = std::make_unique<CompatProps>(*p);
+  c->props->async().set_release(release_block, c->cls);
   c->data = k->initfunc(c->props->get());
   *priv = c.release();
   return 0;
@@ -150,6 +161,31 @@ int custom_invoke(void *priv, const GstTensorMemory *in, uint32_t, GstTensorMemo
   return rc;
 }
 
+// invoke-async: the filter sends its outputs with nnstreamer_filter_dispatch_output_async();
+// what invoke (or allocate_invoke) produces is ignored.
+int custom_invoke_async(void *priv, const nns_tensors_desc *, const GstTensorMemory *in, uint32_t,
+                        const nns_filter_async_ctx *ctx, char *err, size_t len) {
+  auto *c = static_cast<CustomSo *>(priv);
+  CompatAsync &a = c->props->async();
+  ScratchOutputs out(c->props->get()->output_meta);
+  GstTensorMemory *mem = out.get();
+  int rc;
+  a.begin(*ctx);
+  if (c->cls->invoke) {
+    rc = c->cls->invoke(c->data, c->props->get(), in, mem);
+  } else {
+    for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i) mem[i].data = nullptr;
+    rc = c->cls->allocate_invoke(c->data, c->props->get(), in, mem);
+    for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i)
+      if (mem[i].data) release_block(c->cls, mem[i].data);
+  }
+  bool pending = a.end();
+  if (rc < 0)
+    return set_err(err, len,
+                   "custom filter '" + c->path + "' invoke returned " + std::to_string(rc), rc);
+  return pending ? NNS_FILTER_ASYNC_PENDING : 0;
+}
+
 const char *const kExtensions[] = {".so", nullptr};
 
 }  // namespace
@@ -166,6 +202,7 @@ const nns_filter_backend_i *builtin_custom_backend() {
     t.get_model_info = custom_model_info;
     t.set_input_info = custom_set_input;
     t.invoke = custom_invoke;
+    t.invoke_async = custom_invoke_async;
     return t;
   }();
   return &table;

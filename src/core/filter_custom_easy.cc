@@ -74,6 +74,13 @@ int easy_open(const nns_filter_props *p, void **priv, char *err, size_t len) {
                      -ENOENT);
     }
     m = it->second;
+    if (p->invoke_async && !m->func)
+      return set_err(err, len,
+                     "custom-easy model '" + name +
+                         "' was registered with NNS_custom_easy_dynamic_register(), whose "
+                         "function gets no GstTensorFilterProperties to dispatch with; "
+                         "invoke-async=true needs NNS_custom_easy_register()",
+                     -ENOTSUP);
     ++m->users;
   }
   auto e = std::make_unique<EasyPriv>();
@@ -147,6 +154,29 @@ void easy_free_output(void *, void *data) {
   std::free(data);
 }
 
+// invoke-async: the function sends its outputs with nnstreamer_filter_dispatch_output_async()
+// or a captured handle; what it writes into `output` is ignored.
+int easy_invoke_async(void *priv, const nns_tensors_desc *, const GstTensorMemory *in, uint32_t,
+                      const nns_filter_async_ctx *ctx, char *err, size_t len) {
+  auto *e = static_cast<EasyPriv *>(priv);
+  if (!e->model->func)
+    return set_err(err, len,
+                   "custom-easy model '" + e->name +
+                       "' was registered with NNS_custom_easy_dynamic_register(), whose "
+                       "function gets no GstTensorFilterProperties to dispatch with; "
+                       "invoke-async=true needs NNS_custom_easy_register()",
+                   -ENOTSUP);
+  CompatAsync &a = e->props->async();
+  ScratchOutputs out(e->props->get()->output_meta);
+  a.begin(*ctx);
+  int rc = e->model->func(e->model->data, e->props->get(), in, out.get());
+  bool pending = a.end();
+  if (rc < 0)
+    return set_err(err, len,
+                   "custom-easy function '" + e->name + "' returned " + std::to_string(rc), rc);
+  return pending ? NNS_FILTER_ASYNC_PENDING : 0;
+}
+
 }  // namespace
 
 const nns_filter_backend_i *builtin_custom_easy_backend() {
@@ -161,6 +191,7 @@ const nns_filter_backend_i *builtin_custom_easy_backend() {
     t.invoke = easy_invoke;
     t.invoke_dynamic = easy_invoke_dynamic;
     t.free_output = easy_free_output;
+    t.invoke_async = easy_invoke_async;
     return t;
   }();
   return &table;

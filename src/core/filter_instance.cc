@@ -65,6 +65,7 @@ struct PropsHolder {
     p.output_layout = ol.data();
     p.invoke_dynamic = s.invoke_dynamic ? 1 : 0;
     p.num_threads = s.num_threads;
+    p.invoke_async = s.invoke_async ? 1 : 0;
   }
 };
 
@@ -327,6 +328,32 @@ void FilterInstance::invoke_dynamic(const nns_tensors_desc &in_info, const GstTe
     last_use_us_.store(now_us(), std::memory_order_relaxed);
   if (used) *used = session_;
   if (rc < 0) raise("invoke (dynamic) failed", rc, err);
+}
+
+int FilterInstance::invoke_async(const nns_tensors_desc &in_info, const GstTensorMemory *in,
+                                 uint32_t num_in, const nns_filter_async_ctx &ctx) {
+  if (!be_->invoke_async)
+    fail(ErrorKind::kSettings,
+         describe() + ": framework '" + name_ + "' does not support invoke-async");
+  char err[kErrLen];
+  err[0] = '\0';
+  int rc;
+  if (suspended_.load(std::memory_order_relaxed)) {
+    std::unique_lock lk(mu_);
+    resume_locked();
+  }
+  if (thread_safe_) {
+    std::shared_lock lk(mu_);
+    rc = be_->invoke_async(session_->priv(), &in_info, in, num_in, &ctx, err, sizeof err);
+  } else {
+    std::unique_lock lk(mu_);
+    resume_locked();
+    rc = be_->invoke_async(session_->priv(), &in_info, in, num_in, &ctx, err, sizeof err);
+  }
+  if (track_use_.load(std::memory_order_relaxed))
+    last_use_us_.store(now_us(), std::memory_order_relaxed);
+  if (rc < 0) raise("invoke (async) failed", rc, err);
+  return rc == NNS_FILTER_ASYNC_PENDING ? rc : 0;
 }
 
 void FilterInstance::reload(const std::vector<std::string> &models, const ReloadCheck &check) {

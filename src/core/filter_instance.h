@@ -43,6 +43,7 @@ struct FilterOpenSpec {
   std::vector<tensor_layout> input_layout;  // empty: ANY
   std::vector<tensor_layout> output_layout;
   bool invoke_dynamic = false;
+  bool invoke_async = false;  // invoke-async=true and the back end has invoke_async
   int num_threads = 0;
   std::string shared_key;  // shared-tensor-filter-key; "" = not shared
 };
@@ -97,6 +98,12 @@ class FilterInstance {
   void invoke_dynamic(const nns_tensors_desc &in_info, const GstTensorMemory *in,
                       nns_tensors_desc &out_info, GstTensorMemory *out,
                       std::shared_ptr<FilterSession> *used);
+
+  // invoke-async: hands one input to the back end, whose outputs go through ctx.dispatch.
+  // Returns 0 or NNS_FILTER_ASYNC_PENDING; throws nns::Error(kLibrary) on failure.
+  int invoke_async(const nns_tensors_desc &in_info, const GstTensorMemory *in, uint32_t num_in,
+                   const nns_filter_async_ctx &ctx);
+  bool supports_async() const { return be_->invoke_async != nullptr; }
 
   // A model opened by reload() but not swapped in yet, for the caller to inspect.
   class ReloadProbe {

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstddef>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -107,15 +109,28 @@ std::unique_ptr<FilterConf> current_filter_conf() {
 
 void validate_backend_table(const nns_filter_backend_i *t, const std::string &origin) {
   if (!t) fail(ErrorKind::kLibrary, origin + ": nns_filter_backend_entry() returned NULL");
-  if (t->api_version != NNS_FILTER_BACKEND_API_VERSION)
+  if (t->api_version < NNS_FILTER_BACKEND_API_VERSION_MIN ||
+      t->api_version > NNS_FILTER_BACKEND_API_VERSION)
     fail(ErrorKind::kLibrary,
          origin + " was built for filter back-end API version " + std::to_string(t->api_version) +
              ", but this nnstreamer-cpp needs version " +
+             std::to_string(NNS_FILTER_BACKEND_API_VERSION_MIN) + " to " +
              std::to_string(NNS_FILTER_BACKEND_API_VERSION) + "; rebuild the back end");
   if (!t->name || !*t->name) fail(ErrorKind::kLibrary, origin + ": back end has no name");
   if (!t->open || !t->close || !t->invoke)
     fail(ErrorKind::kLibrary, origin + ": back end '" + t->name +
                                   "' lacks a mandatory function (open, close or invoke)");
+}
+
+const nns_filter_backend_i *FilterRegistry::upgrade(const nns_filter_backend_i *t) {
+  if (t->api_version >= NNS_FILTER_BACKEND_API_VERSION) return t;
+  // A version 1 table ends at check_accelerator: copy that much into a full table whose
+  // newer fields are NULL, so the host may read every field of every table.
+  auto full = std::make_unique<nns_filter_backend_i>();
+  std::memset(full.get(), 0, sizeof *full);
+  std::memcpy(full.get(), t, offsetof(nns_filter_backend_i, invoke_async));
+  upgraded_.push_back(std::move(full));
+  return upgraded_.back().get();
 }
 
 FilterRegistry &FilterRegistry::get() {
@@ -131,7 +146,7 @@ FilterRegistry::FilterRegistry() {
 void FilterRegistry::add_builtin(const nns_filter_backend_i *iface) {
   validate_backend_table(iface, "built-in back end");
   std::lock_guard lk(mu_);
-  builtin_[iface->name] = iface;
+  builtin_[iface->name] = upgrade(iface);
 }
 
 void FilterRegistry::remove_builtin(const std::string &name) {
@@ -161,6 +176,7 @@ const nns_filter_backend_i *FilterRegistry::load_file(const std::string &path) {
     dlclose(h);
     throw;
   }
+  t = upgrade(t);
   loaded_[path] = t;  // the handle stays open for the life of the process
   return t;
 }

@@ -51,8 +51,9 @@ class FilterRegistry {
   static FilterRegistry &get();
 
   // Adds an in-process back end (replaces one of the same name). The table must stay valid
-  // until remove_builtin(). Throws Error(kSettings) when the table is incomplete or has
-  // another api_version.
+  // until remove_builtin(). Throws Error(kSettings) when the table is incomplete or has an
+  // api_version outside NNS_FILTER_BACKEND_API_VERSION_MIN..NNS_FILTER_BACKEND_API_VERSION
+  // (older tables are used through a full copy whose newer fields are NULL).
   void add_builtin(const nns_filter_backend_i *iface);
   void remove_builtin(const std::string &name);
 
@@ -83,7 +84,10 @@ class FilterRegistry {
 
  private:
   FilterRegistry();
+  // Older tables as full ones (copies kept in upgraded_); mu_ held.
+  const nns_filter_backend_i *upgrade(const nns_filter_backend_i *t);
   std::mutex mu_;
+  std::vector<std::unique_ptr<nns_filter_backend_i>> upgraded_;
   std::unordered_map<std::string, const nns_filter_backend_i *> builtin_;
   std::unordered_map<std::string, const nns_filter_backend_i *> loaded_;  // by path
 };

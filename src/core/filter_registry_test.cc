@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <cstring>
 #include <map>
+#include <vector>
 
 #include "core/error.h"
 #include "core/filter_compat_props.h"
@@ -90,13 +92,52 @@ TEST(FilterRegistry, RejectsIncompleteTables) {
   t.api_version = NNS_FILTER_BACKEND_API_VERSION;
   t.name = "broken";
   EXPECT_THROW(nns::FilterRegistry::get().add_builtin(&t), nns::Error);
-  t.api_version = 2;
+  t.api_version = NNS_FILTER_BACKEND_API_VERSION + 1;
   try {
     nns::validate_backend_table(&t, "x.so");
     FAIL();
   } catch (const nns::Error &e) {
-    EXPECT_NE(std::string(e.what()).find("API version 2"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("API version 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("needs version 1 to 2"), std::string::npos) << e.what();
   }
+  t.api_version = 0;
+  EXPECT_THROW(nns::validate_backend_table(&t, "x.so"), nns::Error);
+}
+
+namespace {
+int v1_open(const nns_filter_props *, void **, char *, size_t) {
+  return 0;
+}
+void v1_close(void *) {}
+int v1_invoke(void *, const GstTensorMemory *, uint32_t, GstTensorMemory *, uint32_t, char *,
+              size_t) {
+  return 0;
+}
+}  // namespace
+
+// A version 1 table ends at check_accelerator: it still loads, and the host sees the fields
+// added later as NULL instead of reading past the table.
+TEST(FilterRegistry, AcceptsVersion1TablesAsFullOnes) {
+  constexpr std::size_t kV1Size = offsetof(nns_filter_backend_i, invoke_async);
+  // The table sits at the end of a block filled with 0xAB, as if other data followed it.
+  std::vector<unsigned char> block(kV1Size + sizeof(nns_filter_backend_i), 0xAB);
+  auto *v1 = reinterpret_cast<nns_filter_backend_i *>(block.data());
+  std::memset(v1, 0, kV1Size);
+  v1->api_version = 1;
+  v1->name = "v1table";
+  v1->open = v1_open;
+  v1->close = v1_close;
+  v1->invoke = v1_invoke;
+  auto &r = nns::FilterRegistry::get();
+  r.add_builtin(v1);
+  FakeConf conf;
+  nns::BackendRef ref = r.find("v1table", conf);
+  ASSERT_TRUE(ref);
+  EXPECT_NE(ref.iface, v1);  // a full copy
+  EXPECT_EQ(ref.iface->api_version, 1u);
+  EXPECT_EQ(ref.iface->invoke, &v1_invoke);
+  EXPECT_EQ(ref.iface->invoke_async, nullptr);
+  r.remove_builtin("v1table");
 }
 
 TEST(FilterDesc, RoundTripsThroughGstTensorsInfo) {
@@ -156,3 +197,10 @@ TEST(FilterCompatProps, FilledFromBackendProps) {
   EXPECT_EQ(g->input_ranks[0], 2u);
   EXPECT_EQ(g->input_layout[0], _NNS_LAYOUT_ANY);
 }
+
+// Version 2 fields follow the version 1 table directly (back ends built against version 1
+// headers end there).
+static_assert(offsetof(nns_filter_backend_i, invoke_async) ==
+              offsetof(nns_filter_backend_i, check_accelerator) + sizeof(void *));
+static_assert(offsetof(nns_filter_props, invoke_async) ==
+              offsetof(nns_filter_props, num_threads) + sizeof(int));

@@ -107,6 +107,7 @@ void FilterEngine::open(const FilterSettings &s) {
   FilterOpenSpec spec = make_open_spec(s);
   auto conf = current_filter_conf();
   BackendRef be = FilterRegistry::get().resolve(spec.framework, spec.models, *conf);
+  spec.invoke_async = s.invoke_async && be.iface->invoke_async != nullptr;
   if (invoke_dynamic_ && !(be.iface->flags & NNS_FILTER_FLAG_DYNAMIC))
     fail(ErrorKind::kSettings, "invoke-dynamic=true, but framework '" +
                                    std::string(be.iface->name) +
@@ -357,6 +358,10 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
     dyn_out_ = new_desc();
     out_tm_.assign(kTensorLimit, GstTensorMemory{nullptr, 0});
   }
+  if (async_) {
+    if (!dyn_in_) dyn_in_ = new_desc();
+    async_->configure(model_out_, out_flexible_);
+  }
   configured_ = true;
 }
 
@@ -424,6 +429,19 @@ GstMemory *FilterEngine::pass_input(std::size_t i) {
   }
   if (in_flexible_ && !out_flexible_) return gst_memory_share(t.mem, kMetaHeaderSize, -1);
   return gst_memory_ref(t.mem);
+}
+
+// This frame's model inputs (types and dims from the flexible headers or the caps).
+void FilterEngine::describe_input(nns_tensors_desc &d, std::size_t nin) const {
+  d.num_tensors = static_cast<uint32_t>(nin);
+  d.format = static_cast<uint32_t>(TensorFormat::kStatic);
+  for (std::size_t k = 0; k < nin; ++k) {
+    std::size_t i = combi_.in_defined ? combi_.in[k] : k;
+    const TensorInfo ti = in_flexible_ ? in_[i].header.info() : frame_in_[i];
+    d.tensors[k].name[0] = '\0';
+    d.tensors[k].type = static_cast<uint32_t>(ti.type);
+    std::memcpy(d.tensors[k].dims, ti.dims.data(), sizeof d.tensors[k].dims);
+  }
 }
 
 void FilterEngine::track_latency() {
@@ -522,18 +540,28 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
   outs.clear();
   TensorsInfo dyn_info;
 
-  if (invoke_dynamic_) {
+  if (async_) {
+    // 3. invoke-async: the back end dispatches the outputs itself, now or later (through
+    // AsyncDispatcher); this input gives no buffer of its own.
+    describe_input(*dyn_in_, nin);
+    nns_filter_async_ctx ctx = async_->begin_input(inbuf);
+    int arc = -1;
+    struct End {
+      AsyncDispatcher *d;
+      const nns_filter_async_ctx &c;
+      int &rc;
+      ~End() { d->end_input(c, rc); }
+    } end{async_.get(), ctx, arc};
+    arc = inst_->invoke_async(*dyn_in_, invoke_in_.data(), static_cast<uint32_t>(nin), ctx);
+    if (profiling) {
+      stats_.record(now_ns() - t0, prof_latency_ || prof_report_, prof_throughput_);
+      if (prof_report_) track_latency();
+    }
+    return GST_BASE_TRANSFORM_FLOW_DROPPED;
+  } else if (invoke_dynamic_) {
     // 3a. invoke-dynamic: describe this frame's input, the back end allocates the output.
     nns_tensors_desc &d = *dyn_in_;
-    d.num_tensors = static_cast<uint32_t>(nin);
-    d.format = static_cast<uint32_t>(TensorFormat::kStatic);
-    for (std::size_t k = 0; k < nin; ++k) {
-      std::size_t i = combi_.in_defined ? combi_.in[k] : k;
-      const TensorInfo ti = in_flexible_ ? in_[i].header.info() : frame_in_[i];
-      d.tensors[k].name[0] = '\0';
-      d.tensors[k].type = static_cast<uint32_t>(ti.type);
-      std::memcpy(d.tensors[k].dims, ti.dims.data(), sizeof d.tensors[k].dims);
-    }
+    describe_input(d, nin);
     dyn_out_->num_tensors = 0;
     for (auto &o : out_tm_) o = GstTensorMemory{nullptr, 0};
     inst_->invoke_dynamic(d, invoke_in_.data(), *dyn_out_, out_tm_.data(), &session);

@@ -21,6 +21,7 @@
 
 #include "core/filter_instance.h"
 #include "core/meta_header.h"
+#include "gst/filter_async.h"
 #include "gst/filter_settings.h"
 
 namespace nns::gst {
@@ -63,8 +64,14 @@ class FilterEngine {
   void configure(GstCaps *incaps, GstCaps *outcaps);
   bool configured() const { return configured_; }
 
-  // One frame. Returns GST_BASE_TRANSFORM_FLOW_DROPPED when the back end drops it.
+  // One frame. Returns GST_BASE_TRANSFORM_FLOW_DROPPED when the back end drops it, and
+  // always with invoke-async (the outputs go through the dispatcher).
   GstFlowReturn process(GstBuffer *inbuf, GstBuffer *outbuf);
+
+  // invoke-async: whether the open back end has invoke_async, and the dispatcher that then
+  // receives its outputs (nullptr: synchronous invoke).
+  bool async_supported() const { return inst_ && inst_->supports_async(); }
+  void set_async(std::shared_ptr<AsyncDispatcher> d) { async_ = std::move(d); }
 
   // is-updatable: load new model files into the running instance; re-checks the shapes.
   void reload(const std::vector<std::string> &models);
@@ -105,6 +112,7 @@ class FilterEngine {
   void release_outputs(bool free_mems);
   GstMemory *pass_input(std::size_t i);
   void track_latency();
+  void describe_input(nns_tensors_desc &d, std::size_t nin) const;
 
   GstBaseTransform *element_;
   std::shared_ptr<FilterInstance> inst_;
@@ -134,6 +142,7 @@ class FilterEngine {
   std::vector<OutTensor> out_;
   std::vector<GstMemory *> outs_;
   std::unique_ptr<nns_tensors_desc> dyn_in_, dyn_out_;
+  std::shared_ptr<AsyncDispatcher> async_;
 
   FilterStats stats_;
   std::atomic<bool> prof_latency_{false}, prof_throughput_{false}, prof_report_{false};

@@ -23,6 +23,7 @@
 #include "core/filter_registry.h"
 #include "gst/config_file.h"
 #include "gst/element_glue.h"
+#include "gst/filter_async.h"
 #include "gst/filter_engine.h"
 #include "gst/filter_settings.h"
 #include "gst/tensor_caps.h"
@@ -51,6 +52,10 @@ struct FilterPriv {
 
   std::mutex engine_mu;  // start/stop/caps/transform/reload
   nns::gst::FilterEngine engine;
+
+  // invoke-async (nullptr when off or unsupported); set in start, cleared in stop.
+  std::mutex async_mu;
+  std::shared_ptr<nns::gst::AsyncDispatcher> async;
 
   std::mutex info_mu;  // snapshots for get_property
   nns::TensorsInfo in_info, out_info;
@@ -363,6 +368,37 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
   }
 }
 
+static std::shared_ptr<nns::gst::AsyncDispatcher> get_async(FilterPriv *p) {
+  std::lock_guard lk(p->async_mu);
+  return p->async;
+}
+
+// Closes the dispatcher: later dispatches of the back end return -ESHUTDOWN.
+static void stop_async(FilterPriv *p) {
+  std::shared_ptr<nns::gst::AsyncDispatcher> d;
+  {
+    std::lock_guard lk(p->async_mu);
+    d = std::move(p->async);
+  }
+  if (d) d->close();
+}
+
+// invoke-async=true: outputs go through a dispatcher when the back end supports it; otherwise
+// the filter invokes synchronously and says so on the bus.
+static void start_async(GstTensorFilter *self) {
+  FilterPriv *p = self->priv;
+  if (!p->engine.async_supported()) {
+    NNS_POST_WARNING(self, "invoke-async=true, but framework '" + p->engine.instance()->name() +
+                               "' does not support asynchronous invoke (no invoke_async); "
+                               "invoking synchronously, one output per input");
+    return;
+  }
+  auto d = nns::gst::AsyncDispatcher::create(GST_BASE_TRANSFORM(self));
+  p->engine.set_async(d);
+  std::lock_guard lk(p->async_mu);
+  p->async = std::move(d);
+}
+
 static void update_info_snapshot(GstTensorFilter *self) {
   FilterPriv *p = self->priv;
   nns::TensorsInfo in = p->engine.current_input(), out = p->engine.current_output();
@@ -413,15 +449,18 @@ static gboolean gst_tensor_filter_start(GstBaseTransform *trans) {
       }
       s = p->settings;
     }
-    if (s.invoke_async)
-      GST_INFO_OBJECT(self,
-                      "invoke-async=true: back ends here are synchronous; one output "
-                      "per input");
+    if (s.invoke_async && !s.output_combination.empty())
+      nns::fail(nns::ErrorKind::kSettings,
+                "output-combination='" + s.output_combination +
+                    "' cannot be used with invoke-async=true (the outputs are dispatched by "
+                    "the back end, apart from the input)");
     p->last_caps_error.clear();
     {
       std::lock_guard lk(p->engine_mu);
+      p->engine.set_async(nullptr);
       p->engine.open(s);
       p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
+      if (s.invoke_async) start_async(self);
     }
     update_info_snapshot(self);
     if (s.suspend_ms > 0) start_suspend_thread(self, s.suspend_ms);
@@ -433,7 +472,9 @@ static gboolean gst_tensor_filter_stop(GstBaseTransform *trans) {
   auto *self = GST_TENSOR_FILTER(trans);
   FilterPriv *p = self->priv;
   stop_suspend_thread(p);
+  stop_async(p);  // before the back end closes: its late outputs are refused, not pushed
   std::lock_guard lk(p->engine_mu);
+  p->engine.set_async(nullptr);
   p->engine.close();
   return TRUE;
 }
@@ -505,11 +546,22 @@ static GstFlowReturn gst_tensor_filter_prepare_output_buffer(GstBaseTransform *t
 static GstFlowReturn gst_tensor_filter_transform(GstBaseTransform *trans, GstBuffer *inbuf,
                                                  GstBuffer *outbuf) {
   auto *self = GST_TENSOR_FILTER(trans);
+  auto d = get_async(self->priv);
+  if (d) {
+    // A fatal flow return of an async push (downstream EOS, not negotiated, error) stops
+    // upstream here.
+    GstFlowReturn f = d->take_flow();
+    if (f != GST_FLOW_OK) return f;
+  }
   if (self->priv->engine.throttled(inbuf)) return GST_BASE_TRANSFORM_FLOW_DROPPED;
-  return nns::gst::guard(self, GST_FLOW_ERROR, [&] {
+  GstFlowReturn ret = nns::gst::guard(self, GST_FLOW_ERROR, [&] {
     std::lock_guard lk(self->priv->engine_mu);
     return self->priv->engine.process(inbuf, outbuf);
   });
+  // Outputs the back end dispatched from this thread during the invoke go out now, without
+  // engine_mu (downstream may query back upstream while handling them).
+  if (d) d->push_deferred();
+  return ret;
 }
 
 static gboolean gst_tensor_filter_query(GstBaseTransform *trans, GstPadDirection direction,
@@ -556,7 +608,23 @@ static gboolean gst_tensor_filter_sink_event(GstBaseTransform *trans, GstEvent *
       return ok;
     }
   }
-  return GST_BASE_TRANSFORM_CLASS(gst_tensor_filter_parent_class)->sink_event(trans, event);
+  auto parent = [&] {
+    return GST_BASE_TRANSFORM_CLASS(gst_tensor_filter_parent_class)->sink_event(trans, event);
+  };
+  auto d = get_async(self->priv);
+  if (!d) return parent();
+  // invoke-async: serialized events must not interleave with outputs pushed by the back end's
+  // threads, and EOS waits for the inputs the back end announced as pending.
+  switch (GST_EVENT_TYPE(event)) {
+    case GST_EVENT_FLUSH_START:
+      d->flush();
+      return parent();
+    case GST_EVENT_EOS:
+      d->wait_drained();
+      return d->serialized(parent);
+    default:
+      return GST_EVENT_IS_SERIALIZED(event) ? d->serialized(parent) : parent();
+  }
 }
 
 static gboolean gst_tensor_filter_src_event(GstBaseTransform *trans, GstEvent *event) {
@@ -578,6 +646,7 @@ static gboolean gst_tensor_filter_src_event(GstBaseTransform *trans, GstEvent *e
 static void gst_tensor_filter_finalize(GObject *object) {
   auto *self = GST_TENSOR_FILTER(object);
   stop_suspend_thread(self->priv);
+  stop_async(self->priv);
   delete self->priv;
   G_OBJECT_CLASS(gst_tensor_filter_parent_class)->finalize(object);
 }
@@ -667,7 +736,8 @@ static void gst_tensor_filter_class_init(GstTensorFilterClass *klass) {
   install_bool(k, PROP_INVOKE_DYNAMIC, "invoke-dynamic", FALSE,
                "Flexible tensors whose shapes change per frame; the output is always flexible");
   install_bool(k, PROP_INVOKE_ASYNC, "invoke-async", FALSE,
-               "Accepted for compatibility; back ends here produce one output per input");
+               "The back end may emit any number of outputs per input, from its own threads "
+               "(LLM back ends); back ends without invoke_async run synchronously");
   install_string(k, PROP_CONFIG_FILE, "config-file", "",
                  "File of property=value lines applied to this element");
   g_object_class_install_property(
