@@ -278,26 +278,34 @@ bool FilterInstance::ReloadProbe::set_input_info(const TensorsInfo &in, TensorsI
   return inst_.set_input_info_of(priv_, models_, in, out);
 }
 
-int FilterInstance::invoke(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out,
-                           uint32_t num_out, std::shared_ptr<FilterSession> *used) {
-  char err[kErrLen];
-  err[0] = '\0';
-  int rc;
+template <typename Call>
+int FilterInstance::invoke_locked(Call &&call) {
   if (suspended_.load(std::memory_order_relaxed)) {
     std::unique_lock lk(mu_);
     resume_locked();
   }
+  int rc;
   if (thread_safe_) {
     std::shared_lock lk(mu_);
-    rc = be_->invoke(session_->priv(), in, num_in, out, num_out, err, sizeof err);
-    if (used) *used = session_;
+    rc = call();
   } else {
     std::unique_lock lk(mu_);
-    rc = be_->invoke(session_->priv(), in, num_in, out, num_out, err, sizeof err);
-    if (used) *used = session_;
+    resume_locked();  // suspended again between the two locks
+    rc = call();
   }
   if (track_use_.load(std::memory_order_relaxed))
     last_use_us_.store(now_us(), std::memory_order_relaxed);
+  return rc;
+}
+
+int FilterInstance::invoke(const GstTensorMemory *in, uint32_t num_in, GstTensorMemory *out,
+                           uint32_t num_out, std::shared_ptr<FilterSession> *used) {
+  char err[kErrLen];
+  err[0] = '\0';
+  int rc = invoke_locked([&] {
+    if (used) *used = session_;
+    return be_->invoke(session_->priv(), in, num_in, out, num_out, err, sizeof err);
+  });
   if (rc < 0) raise("invoke failed", rc, err);
   return rc;
 }
@@ -337,21 +345,9 @@ int FilterInstance::invoke_async(const nns_tensors_desc &in_info, const GstTenso
          describe() + ": framework '" + name_ + "' does not support invoke-async");
   char err[kErrLen];
   err[0] = '\0';
-  int rc;
-  if (suspended_.load(std::memory_order_relaxed)) {
-    std::unique_lock lk(mu_);
-    resume_locked();
-  }
-  if (thread_safe_) {
-    std::shared_lock lk(mu_);
-    rc = be_->invoke_async(session_->priv(), &in_info, in, num_in, &ctx, err, sizeof err);
-  } else {
-    std::unique_lock lk(mu_);
-    resume_locked();
-    rc = be_->invoke_async(session_->priv(), &in_info, in, num_in, &ctx, err, sizeof err);
-  }
-  if (track_use_.load(std::memory_order_relaxed))
-    last_use_us_.store(now_us(), std::memory_order_relaxed);
+  int rc = invoke_locked([&] {
+    return be_->invoke_async(session_->priv(), &in_info, in, num_in, &ctx, err, sizeof err);
+  });
   if (rc < 0) raise("invoke (async) failed", rc, err);
   return rc == NNS_FILTER_ASYNC_PENDING ? rc : 0;
 }

@@ -146,6 +146,10 @@ class FilterInstance {
   bool set_input_info_of(void *priv, const std::vector<std::string> &models, const TensorsInfo &in,
                          TensorsInfo &out) const;
   void resume_locked();
+  // Runs `call` (a back-end invoke on session_) under mu_: shared for thread-safe back ends,
+  // exclusive otherwise; a suspended model is resumed first and the use time recorded after.
+  template <typename Call>
+  int invoke_locked(Call &&call);
   [[noreturn]] void raise(const std::string &what, int rc, const char *err) const;
   [[noreturn]] void raise(const std::vector<std::string> &models, const std::string &what, int rc,
                           const char *err) const;
