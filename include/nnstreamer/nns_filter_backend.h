@@ -60,12 +60,12 @@ typedef struct {
    * _NNS_END, every dim 0); other back ends never see such a set. */
   const nns_tensors_desc *input;
   const nns_tensors_desc *output;
-  const char *custom;             /* custom= "key:value,key:value" or NULL */
-  const char *accelerator;        /* accelerator= or NULL */
+  const char *custom;                 /* custom= "key:value,key:value" or NULL */
+  const char *accelerator;            /* accelerator= or NULL */
   const tensor_layout *input_layout;  /* NNS_TENSOR_SIZE_LIMIT entries */
   const tensor_layout *output_layout; /* NNS_TENSOR_SIZE_LIMIT entries */
-  int invoke_dynamic;             /* invoke-dynamic=true */
-  int num_threads;                /* 0: back end default */
+  int invoke_dynamic;                 /* invoke-dynamic=true */
+  int num_threads;                    /* 0: back end default */
   /* Version 2. */
   int invoke_async; /* invoke-async=true and the table has invoke_async: it will be called */
 } nns_filter_props;
@@ -139,8 +139,8 @@ typedef struct nns_filter_backend_i {
                         size_t errlen);
   /* Tells the back end the input it will get; fills the output that results. -ENOTSUP if the
    * back end cannot change its input. May be NULL. */
-  int (*set_input_info)(void *priv, const nns_tensors_desc *in, nns_tensors_desc *out,
-                        char *err, size_t errlen);
+  int (*set_input_info)(void *priv, const nns_tensors_desc *in, nns_tensors_desc *out, char *err,
+                        size_t errlen);
 
   /* Runs the model. in[i].data/size are the negotiated input tensors. Unless
    * NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE, out[i] are caller-allocated buffers of the output
@@ -154,8 +154,7 @@ typedef struct nns_filter_backend_i {
   /* invoke-dynamic: the input shapes may change per call; the back end fills out_info and
    * allocates out[i] (released through free_output). May be NULL. */
   int (*invoke_dynamic)(void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
-                        nns_tensors_desc *out_info, GstTensorMemory *out, char *err,
-                        size_t errlen);
+                        nns_tensors_desc *out_info, GstTensorMemory *out, char *err, size_t errlen);
 
   /* Reloads the model from props->model_files; on failure the current model must stay. May be
    * NULL. tensor_filter's is-updatable does not call it: it opens the new model with open()

@@ -76,8 +76,7 @@ extern int registerExternalConverter(NNStreamerExternalConverter *ex);
 extern void unregisterExternalConverter(const char *name);
 
 /* Records descriptions of custom properties ("prop", "description", ..., NULL) for tools. */
-extern void nnstreamer_converter_set_custom_property_desc(const char *name, const char *prop,
-                                                          ...);
+extern void nnstreamer_converter_set_custom_property_desc(const char *name, const char *prop, ...);
 
 #ifdef __cplusplus
 }

@@ -29,7 +29,7 @@
 #define GST_TENSOR_CAP_DEFAULT NNS_MIMETYPE_TENSOR ", framerate = " GST_TENSOR_RATE_RANGE
 #define GST_TENSORS_CAP_MAKE(fmt) \
   NNS_MIMETYPE_TENSORS ", format = (string) " fmt ", framerate = " GST_TENSOR_RATE_RANGE
-#define GST_TENSORS_CAP_WITH_NUM(num) \
+#define GST_TENSORS_CAP_WITH_NUM(num)                                   \
   NNS_MIMETYPE_TENSORS ", format = (string) static, num_tensors = " num \
                        ", framerate = " GST_TENSOR_RATE_RANGE
 #define GST_TENSORS_CAP_DEFAULT GST_TENSORS_CAP_WITH_NUM(GST_TENSOR_NUM_TENSORS_RANGE)

@@ -26,6 +26,8 @@ class Error : public std::runtime_error {
   ErrorKind kind_;
 };
 
-[[noreturn]] inline void fail(ErrorKind kind, const std::string &msg) { throw Error(kind, msg); }
+[[noreturn]] inline void fail(ErrorKind kind, const std::string &msg) {
+  throw Error(kind, msg);
+}
 
 }  // namespace nns

@@ -9,12 +9,14 @@ namespace nns {
 namespace {
 
 constexpr std::array<std::string_view, kNumTypes> kTypeNames = {
-    "int32", "uint32", "int16", "uint16", "int8", "uint8",
+    "int32",   "uint32",  "int16", "uint16", "int8",   "uint8",
     "float64", "float32", "int64", "uint64", "float16"};
 constexpr std::array<std::size_t, kNumTypes> kTypeSizes = {4, 4, 2, 2, 1, 1, 8, 4, 8, 8, 2};
 constexpr std::array<std::string_view, 3> kFormatNames = {"static", "flexible", "sparse"};
 
-std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
+std::string quote(std::string_view s) {
+  return "'" + std::string(s) + "'";
+}
 
 }  // namespace
 
@@ -95,8 +97,7 @@ Dims parse_dims(std::string_view s) {
       fail(ErrorKind::kSettings, "bad dimension value " + quote(p) + " in " + quote(str) +
                                      " (expected unsigned integers separated by ':')");
     if (v == 0) {
-      if (i == 0)
-        fail(ErrorKind::kSettings, "dimension " + quote(str) + " starts with 0");
+      if (i == 0) fail(ErrorKind::kSettings, "dimension " + quote(str) + " starts with 0");
       ended = true;
     } else if (ended) {
       fail(ErrorKind::kSettings, "dimension " + quote(str) + " has a non-zero value after 0");
@@ -232,7 +233,9 @@ std::vector<TensorType> parse_types_list(std::string_view s, std::string_view wh
   return out;
 }
 
-std::vector<std::string> parse_names_list(std::string_view s) { return split(s, ","); }
+std::vector<std::string> parse_names_list(std::string_view s) {
+  return split(s, ",");
+}
 
 std::string trim(std::string_view s) {
   std::size_t b = 0, e = s.size();

@@ -48,20 +48,20 @@ enum class MediaType : int32_t {
   kAny = 0x1000
 };
 
-std::size_t type_size(TensorType t);                  // 0 for kEnd
-std::string_view type_name(TensorType t);             // "float32"; "unknown" for kEnd
+std::size_t type_size(TensorType t);       // 0 for kEnd
+std::string_view type_name(TensorType t);  // "float32"; "unknown" for kEnd
 std::optional<TensorType> type_from_name(std::string_view s);
-TensorType parse_type(std::string_view s);            // throws nns::Error naming the token
-std::string_view format_name(TensorFormat f);         // "static" / "flexible" / "sparse"
+TensorType parse_type(std::string_view s);     // throws nns::Error naming the token
+std::string_view format_name(TensorFormat f);  // "static" / "flexible" / "sparse"
 std::optional<TensorFormat> format_from_name(std::string_view s);
 
 // Dimensions: entries past the rank are 0.
 using Dims = std::array<uint32_t, kRankLimit>;
 
-std::size_t rank_of(const Dims &d);                    // number of leading non-zero entries
-std::size_t element_count(const Dims &d);              // product over the rank; 0 if rank is 0
-bool dims_equal(const Dims &a, const Dims &b);         // trailing 1s and 0s are equivalent
-Dims parse_dims(std::string_view s);                   // "3:224:224:1"; throws on bad input
+std::size_t rank_of(const Dims &d);             // number of leading non-zero entries
+std::size_t element_count(const Dims &d);       // product over the rank; 0 if rank is 0
+bool dims_equal(const Dims &a, const Dims &b);  // trailing 1s and 0s are equivalent
+Dims parse_dims(std::string_view s);            // "3:224:224:1"; throws on bad input
 std::string dims_to_string(const Dims &d, std::size_t min_rank = 0);
 Dims make_dims(std::initializer_list<uint32_t> v);
 
@@ -92,7 +92,7 @@ struct TensorsInfo {
   std::string dims_string(std::size_t min_rank = 0) const;  // "3:224:224:1,10:1"
   std::string types_string() const;                         // "uint8,float32"
   std::string names_string() const;
-  std::string to_string() const;                            // human-readable, for errors
+  std::string to_string() const;  // human-readable, for errors
 };
 
 struct TensorsConfig {

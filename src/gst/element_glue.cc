@@ -48,13 +48,13 @@ void post_error(GstElement *element, ErrorKind kind, const std::string &text, co
   gst_element_message_full(element, GST_MESSAGE_ERROR, domain, code, msg, dbg, file, func, line);
 }
 
-void post_warning(GstElement *element, const std::string &text, const char *file,
-                  const char *func, int line) {
+void post_warning(GstElement *element, const std::string &text, const char *file, const char *func,
+                  int line) {
   gchar *name = gst_object_get_name(GST_OBJECT(element));
   gchar *msg = g_strdup_printf("%s: %s", name ? name : "?", text.c_str());
   g_free(name);
-  gst_element_message_full(element, GST_MESSAGE_WARNING, GST_CORE_ERROR, GST_CORE_ERROR_FAILED,
-                           msg, g_strdup(text.c_str()), file, func, line);
+  gst_element_message_full(element, GST_MESSAGE_WARNING, GST_CORE_ERROR, GST_CORE_ERROR_FAILED, msg,
+                           g_strdup(text.c_str()), file, func, line);
 }
 
 }  // namespace nns::gst

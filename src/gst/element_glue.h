@@ -16,10 +16,10 @@ namespace nns::gst {
 
 // Posts an ERROR message on the bus of `element`. `text` names the property/tensor, what was
 // expected and what was got; the element's name is prefixed so the message stands alone.
-void post_error(GstElement *element, ErrorKind kind, const std::string &text,
-                const char *file, const char *func, int line);
-void post_warning(GstElement *element, const std::string &text, const char *file,
-                  const char *func, int line);
+void post_error(GstElement *element, ErrorKind kind, const std::string &text, const char *file,
+                const char *func, int line);
+void post_warning(GstElement *element, const std::string &text, const char *file, const char *func,
+                  int line);
 
 #define NNS_POST_ERROR(elem, kind, text) \
   ::nns::gst::post_error(GST_ELEMENT_CAST(elem), kind, text, __FILE__, GST_FUNCTION, __LINE__)

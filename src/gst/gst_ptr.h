@@ -15,16 +15,36 @@ struct Deleter {
   }
 };
 
-inline void unref_caps(GstCaps *c) { gst_caps_unref(c); }
-inline void unref_buffer(GstBuffer *b) { gst_buffer_unref(b); }
-inline void unref_memory(GstMemory *m) { gst_memory_unref(m); }
-inline void unref_object(GstObject *o) { gst_object_unref(o); }
-inline void unref_element(GstElement *e) { gst_object_unref(e); }
-inline void unref_message(GstMessage *m) { gst_message_unref(m); }
-inline void unref_event(GstEvent *e) { gst_event_unref(e); }
-inline void free_gchar(gchar *s) { g_free(s); }
-inline void free_error(GError *e) { g_error_free(e); }
-inline void free_structure(GstStructure *s) { gst_structure_free(s); }
+inline void unref_caps(GstCaps *c) {
+  gst_caps_unref(c);
+}
+inline void unref_buffer(GstBuffer *b) {
+  gst_buffer_unref(b);
+}
+inline void unref_memory(GstMemory *m) {
+  gst_memory_unref(m);
+}
+inline void unref_object(GstObject *o) {
+  gst_object_unref(o);
+}
+inline void unref_element(GstElement *e) {
+  gst_object_unref(e);
+}
+inline void unref_message(GstMessage *m) {
+  gst_message_unref(m);
+}
+inline void unref_event(GstEvent *e) {
+  gst_event_unref(e);
+}
+inline void free_gchar(gchar *s) {
+  g_free(s);
+}
+inline void free_error(GError *e) {
+  g_error_free(e);
+}
+inline void free_structure(GstStructure *s) {
+  gst_structure_free(s);
+}
 
 using CapsPtr = std::unique_ptr<GstCaps, Deleter<GstCaps, unref_caps>>;
 using BufferPtr = std::unique_ptr<GstBuffer, Deleter<GstBuffer, unref_buffer>>;

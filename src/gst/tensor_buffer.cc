@@ -59,8 +59,7 @@ GstMemory *buffer_get_tensor(GstBuffer *buf, std::size_t index) {
   GstMemory *last = gst_buffer_peek_memory(buf, n - 1);
   MemoryMap map(last, GST_MAP_READ);
   if (!map.ok()) return nullptr;
-  if (!is_extra(map.data(), map.size()))
-    return index == n - 1 ? gst_memory_ref(last) : nullptr;
+  if (!is_extra(map.data(), map.size())) return index == n - 1 ? gst_memory_ref(last) : nullptr;
   const auto *h = reinterpret_cast<const ExtraHeader *>(map.data());
   if (index >= kMemoryMax + h->num_extra_tensors) return nullptr;
   gsize offset = sizeof(ExtraHeader);
@@ -112,9 +111,8 @@ void buffer_append_tensor(GstBuffer *buf, GstMemory *mem, const TensorInfo &info
 void check_static_buffer(GstBuffer *buf, const TensorsInfo &info) {
   std::size_t count = buffer_tensor_count(buf);
   if (count != info.size())
-    fail(ErrorKind::kStream, "buffer has " + std::to_string(count) +
-                                 " tensor memories, expected " + std::to_string(info.size()) +
-                                 " (" + info.to_string() + ")");
+    fail(ErrorKind::kStream, "buffer has " + std::to_string(count) + " tensor memories, expected " +
+                                 std::to_string(info.size()) + " (" + info.to_string() + ")");
   for (std::size_t i = 0; i < count; ++i) {
     MemoryPtr m(buffer_get_tensor(buf, i));
     gsize got = m ? gst_memory_get_sizes(m.get(), nullptr, nullptr) : 0;

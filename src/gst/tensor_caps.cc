@@ -87,8 +87,8 @@ TensorsConfig config_from_structure(const GstStructure *s) {
   if (const char *f = gst_structure_get_string(s, "format")) {
     auto fmt = format_from_name(f);
     if (!fmt)
-      fail(ErrorKind::kNegotiation, std::string("caps field format='") + f +
-                                        "' is not static, flexible or sparse");
+      fail(ErrorKind::kNegotiation,
+           std::string("caps field format='") + f + "' is not static, flexible or sparse");
     c.info.format = *fmt;
   }
   if (c.info.format != TensorFormat::kStatic) return c;
@@ -113,9 +113,8 @@ TensorsConfig config_from_structure(const GstStructure *s) {
                                       " but dimensions='" + dims + "' lists " +
                                       std::to_string(dl.size()));
   if (types && tl.size() != n)
-    fail(ErrorKind::kNegotiation, "caps field num_tensors=" + std::to_string(n) +
-                                      " but types='" + types + "' lists " +
-                                      std::to_string(tl.size()));
+    fail(ErrorKind::kNegotiation, "caps field num_tensors=" + std::to_string(n) + " but types='" +
+                                      types + "' lists " + std::to_string(tl.size()));
   c.info.tensors.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     if (i < dl.size()) c.info.tensors[i].dims = dl[i];
@@ -179,8 +178,7 @@ GstCaps *caps_from_config(const TensorsConfig &config, bool dim_variants) {
   bool dims_known = info.format == TensorFormat::kStatic && !info.tensors.empty() &&
                     std::all_of(info.tensors.begin(), info.tensors.end(),
                                 [](const TensorInfo &t) { return t.rank() > 0; });
-  if (dim_variants && dims_known)
-    set_string_or_list(s, "dimensions", dims_variants(info, 32));
+  if (dim_variants && dims_known) set_string_or_list(s, "dimensions", dims_variants(info, 32));
   GstCaps *caps = gst_caps_new_full(s, nullptr);
   if (static_known && info.size() == 1) {
     GstStructure *legacy = gst_structure_new(kTensor, "type", G_TYPE_STRING,

@@ -11,11 +11,11 @@
 namespace nns::gst {
 
 // Pad-template caps strings.
-#define NNS_TENSOR_CAPS_ANY_STR                                                       \
-  "other/tensor, framerate = (fraction) [ 0, max ]; "                                 \
+#define NNS_TENSOR_CAPS_ANY_STR                       \
+  "other/tensor, framerate = (fraction) [ 0, max ]; " \
   "other/tensors, format = (string) { static, flexible }, framerate = (fraction) [ 0, max ]"
-#define NNS_TENSOR_CAPS_ALL_FORMATS_STR                               \
-  "other/tensor, framerate = (fraction) [ 0, max ]; "                 \
+#define NNS_TENSOR_CAPS_ALL_FORMATS_STR                             \
+  "other/tensor, framerate = (fraction) [ 0, max ]; "               \
   "other/tensors, format = (string) { static, flexible, sparse }, " \
   "framerate = (fraction) [ 0, max ]"
 

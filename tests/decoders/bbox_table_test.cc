@@ -38,7 +38,8 @@ TEST(BboxTable, NmsKeepsBestOfOverlappingGroup) {
 TEST(BboxTable, AliasesResolveToCanonicalNames) {
   nns::bbox::SchemeTable t;
   t.add("a", [] { return std::unique_ptr<nns::bbox::Scheme>(); });
-  t.add("old-a", [] { return std::unique_ptr<nns::bbox::Scheme>(); }, "a");
+  t.add(
+      "old-a", [] { return std::unique_ptr<nns::bbox::Scheme>(); }, "a");
   EXPECT_EQ(t.canonical("old-a"), "a");
   EXPECT_EQ(t.canonical("a"), "a");
   EXPECT_EQ(t.canonical("b"), "");

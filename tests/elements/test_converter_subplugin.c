@@ -68,5 +68,7 @@ __attribute__((constructor)) static void init_converter(void) {
   registerExternalConverter(&converter);
 }
 #else
-const NNStreamerExternalConverter *nns_converter_subplugin_entry(void) { return &converter; }
+const NNStreamerExternalConverter *nns_converter_subplugin_entry(void) {
+  return &converter;
+}
 #endif

@@ -26,7 +26,7 @@ struct Box {
   float angle = 0;                   // radians, clockwise about the centre (oriented boxes)
   int class_id = -1;                 // index into the option2 labels; -1 = no class
   float score = 0;
-  int track_id = 0;                                 // 0 = not tracked
+  int track_id = 0;                                // 0 = not tracked
   std::vector<std::pair<float, float>> keypoints;  // (x, y), model-input pixels
 };
 

@@ -24,7 +24,9 @@ void os_exit(void **pdata) {
   *pdata = nullptr;
 }
 
-int os_set_option(void **, int, const char *) { return TRUE; }  // options are ignored
+int os_set_option(void **, int, const char *) {
+  return TRUE;
+}  // options are ignored
 
 GstCaps *os_get_out_caps(void **, const GstTensorsConfig *config) {
   GstCaps *caps = gst_caps_new_empty_simple("application/octet-stream");
