@@ -429,6 +429,17 @@ int main(int argc, char **argv) {
         "pipeline/backend throughput (CPU cost, backend us / pipeline us): %.3f "
         "(target >= 0.97)\n",
         median(cratio));
+    // On a host whose speed drifts between rounds (shared VM), the least-disturbed round of
+    // each mode is the steadier estimate.
+    auto best = [](const std::vector<double> &v) {
+      double m = 0;
+      for (double x : v)
+        if (x > 0 && (m == 0 || x < m)) m = x;
+      return m;
+    };
+    if (best(cp) > 0)
+      std::printf("best round: backend %.1f us, pipeline %.1f us CPU per invoke, ratio %.3f\n",
+                  best(cb), best(cp), best(cb) / best(cp));
     if (!rq.empty())
       std::printf(
           "queued pipeline (appsrc ! queue ! tensor_filter)/backend throughput (wall): %.3f "
