@@ -15,6 +15,7 @@
  */
 #include <gst/base/gstbasetransform.h>
 
+#include <atomic>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -54,8 +55,10 @@ struct FilterPriv {
   nns::gst::FilterEngine engine;
 
   // invoke-async (nullptr when off or unsupported); set in start, cleared in stop.
+  // async_on lets the per-buffer path skip the lock when invoke-async is off.
   std::mutex async_mu;
   std::shared_ptr<nns::gst::AsyncDispatcher> async;
+  std::atomic<bool> async_on{false};
 
   std::mutex info_mu;  // snapshots for get_property
   nns::TensorsInfo in_info, out_info;
@@ -369,6 +372,7 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
 }
 
 static std::shared_ptr<nns::gst::AsyncDispatcher> get_async(FilterPriv *p) {
+  if (!p->async_on.load(std::memory_order_acquire)) return nullptr;
   std::lock_guard lk(p->async_mu);
   return p->async;
 }
@@ -379,6 +383,7 @@ static void stop_async(FilterPriv *p) {
   {
     std::lock_guard lk(p->async_mu);
     d = std::move(p->async);
+    p->async_on.store(false, std::memory_order_release);
   }
   if (d) d->close();
 }
@@ -397,6 +402,7 @@ static void start_async(GstTensorFilter *self) {
   p->engine.set_async(d);
   std::lock_guard lk(p->async_mu);
   p->async = std::move(d);
+  p->async_on.store(true, std::memory_order_release);
 }
 
 static void update_info_snapshot(GstTensorFilter *self) {
