@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "api/ml_single_handle.h"
+#include "core/tensor_info.h"
 #include "gst/filter_settings.h"
 #include "nnstreamer-single.h"
 
@@ -25,12 +26,6 @@ namespace {
 const char *const kKnown =
     "input, inputtype, inputname, inputlayout, inputranks, output, outputtype, outputname, "
     "outputlayout, outputranks, custom, accelerator, is-updatable, model, framework";
-
-std::string join(const std::vector<std::string> &v) {
-  std::string s;
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
-  return s;
-}
 
 // The value get_property reports; false for an unknown name. mu held.
 bool current_value(const SingleHandle &h, const std::string &n, std::string &v) {
@@ -63,7 +58,7 @@ bool current_value(const SingleHandle &h, const std::string &n, std::string &v) 
   else if (n == "framework")
     v = h.inst->name();
   else if (n == "model")
-    v = join(h.spec.models);
+    v = join(h.spec.models, ",");
   else
     return false;
   return true;

@@ -26,12 +26,6 @@ int64_t now_us() {
       .count();
 }
 
-std::string join_models(const std::vector<std::string> &m) {
-  std::string s;
-  for (std::size_t i = 0; i < m.size(); ++i) s += (i ? "," : "") + m[i];
-  return s;
-}
-
 // Names alone (inputname= without input=) go only to back ends that pick tensors by name.
 TensorsInfo for_backend(const TensorsInfo &info, uint32_t flags) {
   if (!(flags & NNS_FILTER_FLAG_TENSOR_NAMES) && names_only(info)) return TensorsInfo{};
@@ -74,7 +68,7 @@ std::map<std::string, std::weak_ptr<FilterInstance>> g_shared;
 
 std::string shared_map_key(const std::string &key, const std::string &fw,
                            const std::vector<std::string> &models) {
-  return key + '\n' + fw + '\n' + join_models(models);
+  return key + '\n' + fw + '\n' + join(models, ",");
 }
 
 }  // namespace
@@ -110,7 +104,7 @@ FilterInstance::~FilterInstance() {
 }
 
 std::string FilterInstance::describe() const {
-  return "framework '" + name_ + "', model '" + join_models(spec_.models) + "'";
+  return "framework '" + name_ + "', model '" + join(spec_.models, ",") + "'";
 }
 
 void FilterInstance::raise(const std::string &what, int rc, const char *err) const {
@@ -123,7 +117,7 @@ void FilterInstance::raise(const std::vector<std::string> &models, const std::st
                                   : std::string("error ") + std::to_string(rc) + " (" +
                                         std::strerror(rc < 0 ? -rc : rc) + ")";
   fail(ErrorKind::kLibrary,
-       "framework '" + name_ + "', model '" + join_models(models) + "': " + what + ": " + cause);
+       "framework '" + name_ + "', model '" + join(models, ",") + "': " + what + ": " + cause);
 }
 
 void FilterInstance::check_models(const std::vector<std::string> &models) const {
@@ -157,7 +151,7 @@ std::shared_ptr<FilterSession> FilterInstance::open_session(
         err[0] ? std::string(err)
                : "error " + std::to_string(rc) + " (" + std::strerror(rc < 0 ? -rc : rc) + ")";
     fail(ErrorKind::kLibrary,
-         "framework '" + name_ + "' could not open model '" + join_models(models) + "': " + cause);
+         "framework '" + name_ + "' could not open model '" + join(models, ",") + "': " + cause);
   }
   ++open_count_;
   return std::make_shared<FilterSession>(be_, priv);

@@ -62,12 +62,6 @@ std::string extension_of(const std::string &path) {
   return lower(path.substr(dot + 1));
 }
 
-std::string join(const std::vector<std::string> &v, const std::string &sep) {
-  std::string out;
-  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? sep : "") + v[i];
-  return out;
-}
-
 void push_unique(std::vector<std::string> &v, const std::string &s) {
   if (!s.empty() && std::find(v.begin(), v.end(), s) == v.end()) v.push_back(s);
 }

@@ -245,6 +245,15 @@ std::string trim(std::string_view s) {
   return std::string(s.substr(b, e - b));
 }
 
+std::string join(const std::vector<std::string> &items, std::string_view sep) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i) out += sep;
+    out += items[i];
+  }
+  return out;
+}
+
 std::vector<std::string> split(std::string_view s, std::string_view seps, bool do_trim) {
   std::vector<std::string> out;
   if (trim(s).empty()) return out;

@@ -113,5 +113,7 @@ std::vector<std::string> parse_names_list(std::string_view s);
 // Split on any of `seps`, trimming spaces; empty input gives an empty vector.
 std::vector<std::string> split(std::string_view s, std::string_view seps, bool trim = true);
 std::string trim(std::string_view s);
+// The items with `sep` between them ("a,b" for {"a", "b"} and ",").
+std::string join(const std::vector<std::string> &items, std::string_view sep);
 
 }  // namespace nns

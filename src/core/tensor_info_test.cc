@@ -145,5 +145,13 @@ TEST(MetaHeader, RejectsCorruptHeaders) {
   EXPECT_THROW(parse_meta_header(bad, sizeof bad), Error);
 }
 
+TEST(Strings, SplitTrimsAndJoinPutsTheSeparatorBetween) {
+  EXPECT_EQ(split(" a, b ,c", ","), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_EQ(join({"a", "b", "c"}, ","), "a,b,c");
+  EXPECT_EQ(join({"onnxruntime", "opencv"}, ", "), "onnxruntime, opencv");
+  EXPECT_EQ(join({"only"}, ", "), "only");
+  EXPECT_EQ(join({}, ","), "");
+}
+
 }  // namespace
 }  // namespace nns

@@ -30,12 +30,6 @@ GstCaps *with_flexible(GstCaps *caps, int rate_n, int rate_d) {
   return caps;
 }
 
-std::string join(const std::vector<std::string> &v) {
-  std::string s;
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
-  return s;
-}
-
 TensorsInfo as_static(TensorsInfo i) {
   i.format = TensorFormat::kStatic;
   return i;
@@ -178,8 +172,8 @@ void FilterEngine::reload(const std::vector<std::string> &models) {
   if (configured_ && !invoke_dynamic_) {
     // The stream's caps stay as negotiated: the new model must take and give the same tensors.
     check = [&](const FilterInstance::ReloadProbe &probe) {
-      std::string what = "framework '" + inst_->name() + "': model '" + join(models) +
-                         "' cannot replace model '" + join(inst_->spec().models) + "': ";
+      std::string what = "framework '" + inst_->name() + "': model '" + join(models, ",") +
+                         "' cannot replace model '" + join(inst_->spec().models, ",") + "': ";
       TensorsInfo mi, mo;
       bool known = probe.model_info(mi, mo);
       mi = as_static(mi);

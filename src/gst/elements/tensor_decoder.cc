@@ -22,6 +22,7 @@
 #include <string>
 
 #include "core/c_tensor_info.h"
+#include "core/tensor_info.h"
 #include "gst/config_file.h"
 #include "gst/decoder_registry.h"
 #include "core/meta_header.h"
@@ -100,22 +101,18 @@ std::string decoder_reason(void *pdata) {
   return std::string(msg, strnlen(msg, 512));
 }
 
-std::string join(const std::vector<std::string> &v) {
-  std::string s;
-  for (const auto &x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
 // Creates the decoder for the current mode and applies the options. Throws nns::Error with a
 // message naming the mode or option. Caller holds p->lock.
 void configure(DecoderPriv *p) {
   if (p->configured) return;
   if (!p->config_problems.empty())
-    throw nns::Error(nns::ErrorKind::kSettings, "config-file: " + join(p->config_problems));
+    throw nns::Error(nns::ErrorKind::kSettings,
+                     "config-file: " + nns::join(p->config_problems, ", "));
   if (p->mode.empty())
     throw nns::Error(nns::ErrorKind::kSettings,
                      "property 'mode' is not set; available modes: " +
-                         join(nns::gst::DecoderRegistry::instance().names()) + ", " + kCustomMode);
+                         nns::join(nns::gst::DecoderRegistry::instance().names(), ", ") + ", " +
+                         kCustomMode);
   if (p->mode == kCustomMode) {
     const auto &name = p->options[0];
     if (!name || name->empty())
@@ -134,7 +131,7 @@ void configure(DecoderPriv *p) {
     std::string why = reg.load_error(p->mode);
     throw nns::Error(nns::ErrorKind::kSettings,
                      "unknown mode '" + p->mode + "'" + (why.empty() ? "" : " (" + why + ")") +
-                         "; available modes: " + join(reg.names()) + ", " + kCustomMode);
+                         "; available modes: " + nns::join(reg.names(), ", ") + ", " + kCustomMode);
   }
   void *pdata = nullptr;
   if (!def->init(&pdata))
