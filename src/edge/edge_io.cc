@@ -265,7 +265,7 @@ IoStatus read_frame(int fd, const Limits &limits, const Allocator &alloc,
   auto h = decode_header(hdr, limits, &bad);
   if (!h) {
     if (why) *why = "invalid frame header: " + bad;
-    return IoStatus::kError;
+    return IoStatus::kProtocol;
   }
   out->header = *h;
   out->mems.clear();
@@ -307,7 +307,7 @@ IoStatus read_frame(int fd, const Limits &limits, const Allocator &alloc,
     auto m = Metadata::parse(meta.data(), meta.size(), &bad);
     if (!m) {
       if (why) *why = bad;
-      return IoStatus::kError;
+      return IoStatus::kProtocol;
     }
     out->meta = std::move(*m);
   }

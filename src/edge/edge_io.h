@@ -77,13 +77,15 @@ std::string peer_name(int fd);   // "127.0.0.1:40000"
 std::string local_name(int fd);  // same, for our end
 void shutdown_fd(int fd);        // wakes threads blocked on it
 
-enum class IoStatus { kOk, kClosed, kStopped, kTimeout, kError };
+// kError: the connection broke (including mid-frame); kProtocol: the peer sent bytes that are
+// not a valid frame (bad header, sizes over the limits, bad metadata).
+enum class IoStatus { kOk, kClosed, kStopped, kTimeout, kError, kProtocol };
 
 // Waits up to `timeout_ms` (-1: until stop) for an incoming connection; polls `stop`.
 IoStatus wait_readable(int fd, int timeout_ms, const std::atomic<bool> &stop);
 
-// Reads one frame. kClosed: the peer closed before the first header byte. kError: `why` says
-// what was wrong (truncated frame, bad header, size over the limits, bad metadata).
+// Reads one frame. kClosed: the peer closed before the first header byte. kError/kProtocol:
+// `why` says what was wrong (truncated frame; bad header, size over the limits, bad metadata).
 // `timeout_ms` bounds the wait for the first byte (-1: none); later bytes must keep coming.
 IoStatus read_frame(int fd, const Limits &limits, const Allocator &alloc,
                     const std::atomic<bool> &stop, int timeout_ms, Message *out, std::string *why);

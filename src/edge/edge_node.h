@@ -22,6 +22,10 @@ const char *connect_type_name(ConnectType t);
 
 enum class Role { kQueryServer, kQueryClient, kPublisher, kSubscriber };
 
+// How a client session ended: the server said goodbye (an ERROR command), the connection
+// broke, or the server sent bytes that are not a valid frame.
+enum class CloseKind { kGoodbye, kBroken, kProtocol };
+
 struct NodeOptions {
   Role role = Role::kQueryServer;
   std::string host = "localhost";  // our listening address (servers, query client)
@@ -38,8 +42,8 @@ struct NodeCallbacks {
   std::function<void(Message &&)> on_data;
   // A peer misbehaved or went away; the text names the peer and what was wrong.
   std::function<void(const std::string &)> on_warning;
-  // Client side: the session ended (server gone, or it sent an error/garbage).
-  std::function<void(const std::string &)> on_closed;
+  // Client side: the session ended, and how.
+  std::function<void(const std::string &, CloseKind)> on_closed;
   // Server side: a client completed the handshake.
   std::function<void(int64_t, const std::string &)> on_connected;
   // Server side: the capability string sent to each new client.

@@ -247,7 +247,7 @@ class TcpServer final : public ServerNode {
       const IoStatus st = read_frame(read_fd, o_.limits, alloc, stop_, -1, &m, &why);
       if (st == IoStatus::kStopped) return;  // stop() handles the table
       if (st == IoStatus::kClosed) break;
-      if (st == IoStatus::kError) {
+      if (st == IoStatus::kError || st == IoStatus::kProtocol) {
         remove(c->id);
         warn(who + ": " + why + "; connection dropped");
         return;
@@ -355,8 +355,8 @@ class TcpClient final : public ClientNode {
   }
 
  private:
-  void closed(const std::string &why) {
-    if (connected_.exchange(false) && cb_.on_closed) cb_.on_closed(why);
+  void closed(const std::string &why, CloseKind kind = CloseKind::kBroken) {
+    if (connected_.exchange(false) && cb_.on_closed) cb_.on_closed(why, kind);
   }
 
   void read_loop(int fd, const std::string &who) {
@@ -368,7 +368,9 @@ class TcpClient final : public ClientNode {
       if (st == IoStatus::kStopped) return;
       if (st == IoStatus::kClosed) return closed(who + " closed the connection");
       if (st == IoStatus::kError) return closed(who + ": " + why);
-      if (m.header.cmd == Cmd::kError) return closed(who + " ended the session");
+      if (st == IoStatus::kProtocol) return closed(who + ": " + why, CloseKind::kProtocol);
+      if (m.header.cmd == Cmd::kError)
+        return closed(who + " ended the session", CloseKind::kGoodbye);
       if (m.header.cmd == Cmd::kTransferData && cb_.on_data) cb_.on_data(std::move(m));
     }
   }

@@ -76,7 +76,7 @@ std::unique_ptr<ClientNode> make_query_client(uint16_t port, Queue<std::string> 
     for (auto &p : m.mems) s.append(reinterpret_cast<char *>(p->data()), p->size());
     answers->push(s);
   };
-  if (closed) cb.on_closed = [closed](const std::string &s) { closed->push(s); };
+  if (closed) cb.on_closed = [closed](const std::string &s, CloseKind) { closed->push(s); };
   return make_tcp_client(o, cb);
 }
 
