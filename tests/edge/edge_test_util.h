@@ -136,10 +136,12 @@ inline std::string server_pipeline(uint16_t port, const std::string &middle = ""
 struct AppPipeline {
   GstElement *pipeline = nullptr;
   GstElement *src = nullptr, *sink = nullptr, *mid = nullptr;
-  explicit AppPipeline(const std::string &middle, const std::string &caps) {
+  // `middle_is_sink`: the element is itself the sink (no appsink after it).
+  AppPipeline(const std::string &middle, const std::string &caps, bool middle_is_sink = false) {
     GError *err = nullptr;
     const std::string d = "appsrc name=src is-live=true format=time caps=\"" + caps + "\" ! " +
-                          middle + " name=mid ! appsink name=sink sync=false max-buffers=0";
+                          middle + " name=mid" +
+                          (middle_is_sink ? "" : " ! appsink name=sink sync=false max-buffers=0");
     pipeline = gst_parse_launch(d.c_str(), &err);
     if (err) {
       ADD_FAILURE() << err->message;
@@ -153,7 +155,7 @@ struct AppPipeline {
     stop();
     for (GstMessage *m : all_) gst_message_unref(m);
     gst_object_unref(src);
-    gst_object_unref(sink);
+    if (sink) gst_object_unref(sink);
     gst_object_unref(mid);
     gst_object_unref(pipeline);
   }
