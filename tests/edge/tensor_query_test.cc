@@ -362,3 +362,19 @@ TEST(TensorQuery, MetalessBuffersHitTheLimit) {
       << r.error_text;
   (void)port;
 }
+
+TEST(TensorQuery, TensorCapsCompareAsTensors) {
+  // The server takes dimensions=64:1:1:1, the client sends 64:1: the same tensor (as upstream).
+  const uint16_t port = free_port();
+  Child server(server_pipeline(port,
+                               "other/tensors,format=static,num_tensors=1,dimensions=64:1:1:1,"
+                               "types=uint8,framerate=0/1 ! "),
+               "dims");
+  ASSERT_TRUE(server.wait_port(port)) << server.log();
+  AppPipeline c(client_desc(port, "timeout=2000"), kCaps);
+  c.play();
+  c.push(frame(2, 0), 0);
+  std::vector<uint8_t> got;
+  ASSERT_TRUE(c.pull(&got)) << joined(c.messages(GST_MESSAGE_ERROR));
+  EXPECT_EQ(got, frame(2, 0));
+}

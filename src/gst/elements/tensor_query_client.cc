@@ -153,7 +153,18 @@ std::optional<std::string> check_server_caps(GstTensorQueryClient *self, const s
   auto server = without_rate(*src);
   if (!client || !server)
     return "cannot parse the caps: client '" + p->in_caps + "', server '" + *src + "'";
-  if (!gst_caps_can_intersect(client.get(), server.get()))
+  // Tensor streams compare as tensors (dims "64:1" equals "64:1:1:1"), as upstream does.
+  bool same_tensors = false;
+  if (nns::gst::is_tensor_caps(client.get()) && nns::gst::is_tensor_caps(server.get()) &&
+      gst_caps_is_fixed(client.get()) && gst_caps_is_fixed(server.get())) {
+    try {
+      same_tensors = nns::gst::config_from_caps(client.get())
+                         .info.same_as(nns::gst::config_from_caps(server.get()).info);
+    } catch (const nns::Error &) {
+      same_tensors = false;
+    }
+  }
+  if (!same_tensors && !gst_caps_can_intersect(client.get(), server.get()))
     return "the server cannot take the client's caps: client sends '" + p->in_caps +
            "', server (tensor_query_serversrc) takes '" + *src + "'";
   // Output caps: the server sink's caps when fixed; otherwise what they share with our input
