@@ -6,6 +6,7 @@
 
 #include "edge/edge_io.h"
 #include "edge_test_util.h"
+#include "gst/tensor_caps.h"
 #include "support/harness.h"
 
 using namespace edge_test;
@@ -80,9 +81,13 @@ TEST(TensorQuery, RoundTripExactBytesAndTimestamps) {
   EXPECT_EQ(stat(st, "received"), 5u);
   EXPECT_EQ(stat(st, "dropped"), 0u);
   gst_structure_free(st);
-  GstCaps *caps = gst_pad_get_current_caps(gst_element_get_static_pad(c.sink, "sink"));
+  GstPad *pad = gst_element_get_static_pad(c.sink, "sink");
+  GstCaps *caps = gst_pad_get_current_caps(pad);
+  gst_object_unref(pad);
   ASSERT_TRUE(caps);
-  EXPECT_TRUE(gst_caps_is_equal(caps, gst_caps_from_string(kCaps))) << gst_caps_to_string(caps);
+  GstCaps *want = gst_caps_from_string(kCaps);
+  EXPECT_TRUE(gst_caps_is_equal(caps, want)) << nns::gst::caps_to_string(caps);
+  gst_caps_unref(want);
   gst_caps_unref(caps);
 }
 
