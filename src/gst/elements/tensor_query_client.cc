@@ -22,6 +22,7 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
+#include <vector>
 
 #include "gst/edge_glue.h"
 #include "gst/element_glue.h"
@@ -61,6 +62,7 @@ struct Settings {
 struct Pending {
   GstClockTime pts, dts, duration;
   guint64 offset, offset_end;
+  std::chrono::steady_clock::time_point sent;
 };
 
 struct ClientPriv {
@@ -73,7 +75,10 @@ struct ClientPriv {
   bool in_tensor = false;
   bool out_tensor = false;
   nns::TensorsConfig out_config;
-  bool lost = false;  // the server went away; reconnect on the next buffer
+  std::string out_candidates;    // the server's answer caps (or our input caps for ANY)
+  bool out_pending = false;      // not fixed: chosen with the first answer
+  std::vector<GstEvent *> held;  // sticky events that must follow those caps (segment, tags)
+  bool lost = false;             // the server went away; reconnect on the next buffer
   Clock::time_point last_attempt{};
 
   // Answers (node threads push, streaming thread pops).
@@ -141,6 +146,8 @@ nns::gst::CapsPtr without_rate(const std::string &s) {
   return c;
 }
 
+std::optional<std::string> push_out_caps(GstTensorQueryClient *self, GstCaps *out);
+
 // Checks the server capability against our input caps; on success sets the output caps.
 std::optional<std::string> check_server_caps(GstTensorQueryClient *self, const std::string &cap) {
   auto *p = self->priv;
@@ -167,26 +174,66 @@ std::optional<std::string> check_server_caps(GstTensorQueryClient *self, const s
   if (!same_tensors && !gst_caps_can_intersect(client.get(), server.get()))
     return "the server cannot take the client's caps: client sends '" + p->in_caps +
            "', server (tensor_query_serversrc) takes '" + *src + "'";
-  // Output caps: the server sink's caps when fixed; otherwise what they share with our input
-  // (a pass-through server announces ANY), fixated.
+  // Output caps: the server sink's caps when fixed; ANY (a pass-through server) means our
+  // input caps; otherwise the choice waits for the first answer (set_out_caps_for).
   nns::gst::CapsPtr out(gst_caps_from_string(sink->c_str()));
-  if (!out) return "cannot parse the server's answer caps '" + *sink + "'";
+  if (!out || gst_caps_is_empty(out.get()))
+    return "cannot parse the server's answer caps '" + *sink + "'";
+  if (gst_caps_is_any(out.get())) out.reset(gst_caps_from_string(p->in_caps.c_str()));
+  p->out_candidates = caps_str(out.get());
   if (!gst_caps_is_fixed(out.get())) {
-    nns::gst::CapsPtr in(gst_caps_from_string(p->in_caps.c_str()));
-    nns::gst::CapsPtr both(gst_caps_intersect(out.get(), in.get()));
-    if (!gst_caps_is_empty(both.get())) out = std::move(both);
-    if (gst_caps_is_any(out.get()) || gst_caps_is_empty(out.get()))
-      return "the server's answer caps '" + *sink + "' are not fixed";
-    out.reset(gst_caps_fixate(out.release()));
+    p->out_pending = true;
+    return std::nullopt;
   }
-  if (!gst_pad_push_event(self->srcpad, gst_event_new_caps(out.get()))) {
+  p->out_pending = false;
+  return push_out_caps(self, out.get());
+}
+
+// Unfixed answer caps (a server whose tensor_filter announces every shape it can produce):
+// the first structure whose tensor sizes match the memories of the first answer, else the
+// part shared with our input, else the first structure.
+void set_out_caps_for(GstTensorQueryClient *self, const nns::edge::Message &m) {
+  auto *p = self->priv;
+  nns::gst::CapsPtr cands(gst_caps_from_string(p->out_candidates.c_str()));
+  nns::gst::CapsPtr chosen;
+  for (guint i = 0; cands && i < gst_caps_get_size(cands.get()) && !chosen; ++i) {
+    nns::gst::CapsPtr one(gst_caps_fixate(gst_caps_copy_nth(cands.get(), i)));
+    if (!nns::gst::is_tensor_caps(one.get())) continue;
+    try {
+      const auto cfg = nns::gst::config_from_caps(one.get());
+      if (cfg.info.format != nns::TensorFormat::kStatic || cfg.info.size() != m.mems.size())
+        continue;
+      bool match = true;
+      for (std::size_t k = 0; k < m.mems.size() && match; ++k)
+        match = cfg.info[k].byte_size() == m.mems[k]->size();
+      if (match) chosen = std::move(one);
+    } catch (const nns::Error &) {
+    }
+  }
+  if (!chosen && cands) {
+    nns::gst::CapsPtr in(gst_caps_from_string(p->in_caps.c_str()));
+    nns::gst::CapsPtr both(gst_caps_intersect(cands.get(), in.get()));
+    chosen.reset(gst_caps_fixate(gst_caps_is_empty(both.get()) ? gst_caps_ref(cands.get())
+                                                               : both.release()));
+  }
+  p->out_pending = false;
+  if (!chosen) nns::fail(nns::ErrorKind::kNegotiation, "no caps for the server's answers");
+  if (auto err = push_out_caps(self, chosen.get())) nns::fail(nns::ErrorKind::kNegotiation, *err);
+}
+
+std::optional<std::string> push_out_caps(GstTensorQueryClient *self, GstCaps *out) {
+  auto *p = self->priv;
+  if (!gst_pad_push_event(self->srcpad, gst_event_new_caps(out))) {
     // Downstream refused: say so with both caps.
     nns::gst::CapsPtr peer(gst_pad_peer_query_caps(self->srcpad, nullptr));
-    return "downstream does not accept the server's answer caps '" + caps_str(out.get()) +
+    return "downstream does not accept the server's answer caps '" + caps_str(out) +
            "' (it takes '" + (peer ? caps_str(peer.get()) : std::string("?")) + "')";
   }
-  p->out_tensor = nns::gst::is_tensor_caps(out.get());
-  p->out_config = p->out_tensor ? nns::gst::config_from_caps(out.get()) : nns::TensorsConfig{};
+  p->out_tensor = nns::gst::is_tensor_caps(out);
+  p->out_config = p->out_tensor ? nns::gst::config_from_caps(out) : nns::TensorsConfig{};
+  std::vector<GstEvent *> held;
+  held.swap(p->held);
+  for (GstEvent *e : held) gst_pad_push_event(self->srcpad, e);
   return std::nullopt;
 }
 
@@ -276,11 +323,14 @@ GstFlowReturn push_answers(GstTensorQueryClient *self, int wait_ms) {
         pend = p->pending.front();
         p->pending.pop_front();
       } else {
-        pend = {GST_CLOCK_TIME_NONE, GST_CLOCK_TIME_NONE, GST_CLOCK_TIME_NONE,
-                GST_BUFFER_OFFSET_NONE, GST_BUFFER_OFFSET_NONE};
+        pend = {GST_CLOCK_TIME_NONE,    GST_CLOCK_TIME_NONE,    GST_CLOCK_TIME_NONE,
+                GST_BUFFER_OFFSET_NONE, GST_BUFFER_OFFSET_NONE, Clock::now()};
       }
       ++p->received;
+      GST_INFO_OBJECT(self, "answer %" G_GUINT64_FORMAT ": round trip %.0f us", p->received,
+                      std::chrono::duration<double, std::micro>(Clock::now() - pend.sent).count());
     }
+    if (p->out_pending) set_out_caps_for(self, m);
     GstBuffer *out =
         nns::gst::buffer_from_message(std::move(m), p->out_tensor ? &p->out_config : nullptr);
     GST_BUFFER_PTS(out) = pend.pts;
@@ -345,7 +395,7 @@ GstFlowReturn client_chain(GstPad *, GstObject *parent, GstBuffer *buf) {
       {
         std::lock_guard<std::mutex> l(p->qlock);
         p->pending.push_back({GST_BUFFER_PTS(buf), GST_BUFFER_DTS(buf), GST_BUFFER_DURATION(buf),
-                              GST_BUFFER_OFFSET(buf), GST_BUFFER_OFFSET_END(buf)});
+                              GST_BUFFER_OFFSET(buf), GST_BUFFER_OFFSET_END(buf), Clock::now()});
       }
       nns::gst::FrameView view(buf, p->in_tensor);
       std::string why;
@@ -415,6 +465,13 @@ gboolean client_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
         return TRUE;
       });
     }
+    case GST_EVENT_SEGMENT:
+    case GST_EVENT_TAG:
+      if (p->out_pending) {  // caps come with the first answer; keep the sticky order
+        p->held.push_back(event);
+        return TRUE;
+      }
+      break;
     case GST_EVENT_EOS:
       nns::gst::guard_void(self, [&] { drain(self); });
       break;
@@ -459,6 +516,9 @@ GstStateChangeReturn client_change_state(GstElement *element, GstStateChange t) 
   if (t == GST_STATE_CHANGE_PAUSED_TO_READY) {
     p->node.reset();  // joins the connection threads
     p->in_caps.clear();
+    p->out_pending = false;
+    for (GstEvent *e : p->held) gst_event_unref(e);
+    p->held.clear();
     p->lost = false;
     std::lock_guard<std::mutex> l(p->qlock);
     p->answers.clear();
@@ -553,6 +613,7 @@ static void client_get_property(GObject *object, guint id, GValue *value, GParam
 
 static void client_finalize(GObject *object) {
   auto *self = GST_TENSOR_QUERY_CLIENT(object);
+  for (GstEvent *e : self->priv->held) gst_event_unref(e);
   delete self->priv;
   G_OBJECT_CLASS(gst_tensor_query_client_parent_class)->finalize(object);
 }
