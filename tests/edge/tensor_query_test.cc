@@ -383,3 +383,30 @@ TEST(TensorQuery, TensorCapsCompareAsTensors) {
   ASSERT_TRUE(c.pull(&got)) << joined(c.messages(GST_MESSAGE_ERROR));
   EXPECT_EQ(got, frame(2, 0));
 }
+
+TEST(TensorQuery, MaxRequestDropsTheNewestAndTimeoutBoundsTheWait) {
+  const uint16_t port = free_port();
+  // A server that never answers.
+  Child server("tensor_query_serversrc host=127.0.0.1 port=" + std::to_string(port) + " ! fakesink",
+               "mute");
+  ASSERT_TRUE(server.wait_port(port)) << server.log();
+  AppPipeline c(client_desc(port, "max-request=2 timeout=100"), kCaps);
+  c.play();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int n = 0; n < 5; ++n) c.push(frame(0, n), n * GST_MSECOND);
+  c.eos();
+  // Each input waits at most 100 ms, EOS waits 100 ms for what is in flight.
+  std::vector<uint8_t> got;
+  EXPECT_FALSE(c.pull(&got, nullptr, 5 * GST_SECOND));
+  EXPECT_TRUE(gst_app_sink_is_eos(GST_APP_SINK(c.sink)));
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0)
+          .count();
+  EXPECT_LT(ms, 2500);
+  GstStructure *st = c.stats();
+  EXPECT_EQ(stat(st, "sent"), 2u);
+  EXPECT_EQ(stat(st, "dropped"), 3u);
+  EXPECT_EQ(stat(st, "lost"), 2u);  // the two in flight never answered
+  EXPECT_EQ(stat(st, "received"), 0u);
+  gst_structure_free(st);
+}
