@@ -410,3 +410,31 @@ TEST(TensorQuery, MaxRequestDropsTheNewestAndTimeoutBoundsTheWait) {
   EXPECT_EQ(stat(st, "received"), 0u);
   gst_structure_free(st);
 }
+
+TEST(TensorQuery, ClientIdSurvivesAProcessingServer) {
+  // tensor_transform makes a new buffer per frame: GstMetaQuery must be carried over to it.
+  const uint16_t port = free_port();
+  Child server(
+      server_pipeline(
+          port, std::string(kCaps) + " ! queue ! tensor_transform mode=arithmetic option=add:1 ! "),
+      "transform");
+  ASSERT_TRUE(server.wait_port(port)) << server.log();
+  AppPipeline a(client_desc(port, "timeout=2000"), kCaps),
+      b(client_desc(port, "timeout=2000"), kCaps);
+  a.play();
+  b.play();
+  for (int n = 0; n < 20; ++n) {
+    a.push(frame(1, n), n * GST_MSECOND);
+    b.push(frame(2, n), n * GST_MSECOND);
+  }
+  for (int n = 0; n < 20; ++n) {
+    for (auto *c : {&a, &b}) {
+      const int id = c == &a ? 1 : 2;
+      std::vector<uint8_t> got;
+      ASSERT_TRUE(c->pull(&got)) << id << " " << n << joined(c->messages(GST_MESSAGE_ERROR));
+      auto want = frame(id, n);
+      for (auto &v : want) v = static_cast<uint8_t>(v + 1);
+      ASSERT_EQ(got, want) << "client " << id << " frame " << n;
+    }
+  }
+}
