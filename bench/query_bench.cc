@@ -16,6 +16,7 @@
 #include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 #include <netinet/in.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -92,8 +93,14 @@ double pct(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
 }
 
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
+}
+
 struct Result {
-  double p50 = 0, p99 = 0, fps = 0;
+  double p50 = 0, p99 = 0, fps = 0, cpu_us = 0;
   int answers = 0;
 };
 
@@ -115,6 +122,7 @@ Result run(uint16_t port, const std::string &client_opts, int frames, bool locks
   for (std::size_t i = 0; i < kFrame; ++i) bytes[i] = static_cast<uint8_t>(i * 31);
   Result r;
   const auto t0 = Clock::now();
+  const double c0 = cpu_seconds();
   auto pull = [&](GstClockTime t) {
     GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), t);
     if (!s) return false;
@@ -133,6 +141,7 @@ Result run(uint16_t port, const std::string &client_opts, int frames, bool locks
   }
   const double s = std::chrono::duration<double>(Clock::now() - t0).count();
   r.fps = r.answers / s;
+  r.cpu_us = r.answers ? (cpu_seconds() - c0) * 1e6 / r.answers : 0;
   r.p50 = pct(probes.us, 0.5);
   r.p99 = pct(probes.us, 0.99);
   gst_element_set_state(c, GST_STATE_NULL);
@@ -161,14 +170,15 @@ int main(int argc, char **argv) {
   gst_element_set_state(server, GST_STATE_PLAYING);
   g_usleep(200000);  // a live pipeline reaches PLAYING with its first buffer: do not wait
 
-  std::vector<double> p50s, p99s, fpss;
+  std::vector<double> p50s, p99s, fpss, cpus;
   for (int r = 0; r < runs; ++r) {
     Result lat = run(port, "max-request=1 timeout=1000", frames / 2, true);
     Result thr = run(port, "max-request=0 timeout=0", frames, false);
     std::printf(
         "run %d: latency p50 %.1f us p99 %.1f us (%d answers); throughput %.0f frames/s "
-        "(%d/%d answers)\n",
-        r, lat.p50, lat.p99, lat.answers, thr.fps, thr.answers, frames);
+        "(%d/%d answers), process CPU %.1f us per frame (client + server)\n",
+        r, lat.p50, lat.p99, lat.answers, thr.fps, thr.answers, frames, thr.cpu_us);
+    cpus.push_back(thr.cpu_us);
     p50s.push_back(lat.p50);
     p99s.push_back(lat.p99);
     fpss.push_back(thr.fps);
@@ -183,9 +193,9 @@ int main(int argc, char **argv) {
   const double copy_us =
       std::chrono::duration<double, std::micro>(Clock::now() - t0).count() / 2000;
   std::printf(
-      "median of %d runs: p50 %.1f us, p99 %.1f us, %.0f frames/s; memcpy of one "
-      "150528-byte frame: %.1f us; user-space copies per direction: 0\n",
-      runs, pct(p50s, 0.5), pct(p99s, 0.5), pct(fpss, 0.5), copy_us);
+      "median of %d runs: p50 %.1f us, p99 %.1f us, %.0f frames/s, %.1f us CPU per frame; "
+      "memcpy of one 150528-byte frame: %.1f us; user-space copies per direction: 0\n",
+      runs, pct(p50s, 0.5), pct(p99s, 0.5), pct(fpss, 0.5), pct(cpus, 0.5), copy_us);
   gst_element_set_state(server, GST_STATE_NULL);
   gst_object_unref(server);
   return 0;

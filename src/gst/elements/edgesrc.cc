@@ -247,7 +247,10 @@ static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
     }
     nns::TensorsConfig cfg;
     const nns::TensorsConfig *cfgp = nullptr;
-    nns::gst::CapsPtr caps(gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc)));
+    // The tensor config only matters for packing more than 16 memories (not per frame else).
+    nns::gst::CapsPtr caps(m.mems.size() > gst_buffer_get_max_memory()
+                               ? gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc))
+                               : nullptr);
     if (caps && nns::gst::is_tensor_caps(caps.get())) {
       cfg = nns::gst::config_from_caps(caps.get());
       cfgp = &cfg;
