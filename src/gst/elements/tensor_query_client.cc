@@ -349,6 +349,8 @@ bool try_reconnect(GstTensorQueryClient *self) {
   const auto now = Clock::now();
   if (now - p->last_attempt < std::chrono::milliseconds(kReconnectEveryMs)) return false;
   p->last_attempt = now;
+  p->node.reset();  // a fresh session with a short handshake bound, so the chain never stalls
+  make_node(self, kReconnectTimeoutMs);
   try {
     p->node->connect();
   } catch (const nns::Error &e) {
