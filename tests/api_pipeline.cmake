@@ -9,13 +9,13 @@ target_include_directories(ml_pipeline_api PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}
 target_compile_definitions(ml_pipeline_api PRIVATE NNS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
                            NNS_BUILD_DIR="${CMAKE_BINARY_DIR}" NNS_GST_PLUGINS_DIR="${GST_PLUGINS_DIR}")
 target_link_libraries(ml_pipeline_api PRIVATE capi-nnstreamer GTest::gtest nns_warnings
-                      Threads::Threads)
+                      Threads::Threads PkgConfig::GST)
 add_dependencies(ml_pipeline_api nnstreamer)
 gtest_discover_tests(ml_pipeline_api DISCOVERY_TIMEOUT 60 PROPERTIES LABELS api TIMEOUT 120)
 
 # nnstreamer.h compiled as C: the header is C, and a whole pipeline runs from C.
 add_executable(ml_pipeline_c api/ml_pipeline_c.c)
-target_link_libraries(ml_pipeline_c PRIVATE capi-nnstreamer nns_warnings)
+target_link_libraries(ml_pipeline_c PRIVATE capi-nnstreamer nns_warnings PkgConfig::GST)
 target_compile_definitions(ml_pipeline_c PRIVATE NNS_BUILD_DIR="${CMAKE_BINARY_DIR}")
 # Same environment as tests/api/ml_pipeline_main.cc (the links are made by ml_pipeline_api's
 # first run at build time, by gtest_discover_tests).

@@ -67,7 +67,9 @@ GstBusSyncReply on_bus(GstBus *, GstMessage *msg, gpointer user) {
     default:
       break;
   }
-  // Nobody pops this bus: drop every message once seen.
+  // Nobody pops this bus: drop every message once seen (a sync handler that drops a message
+  // owns it and must unref it).
+  gst_message_unref(msg);
   return GST_BUS_DROP;
 }
 
