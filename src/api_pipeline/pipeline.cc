@@ -158,6 +158,7 @@ void teardown(Pipeline *p) {
   }
   for (auto &[name, n] : p->nodes) {
     for (Handle *h : n->handles) delete h;  // sink handles already went with close_sinks()
+    for (Handle *h : n->retired) delete h;
     if (!n->custom_easy.empty()) custom_easy_ref(n->custom_easy, -1);
     if (!n->if_custom.empty()) if_custom_ref(n->if_custom, -1);
     gst_object_unref(n->element);
