@@ -6,7 +6,8 @@ set(NNS_COMPAT_TEST_DIR ${CMAKE_BINARY_DIR}/tests/compat)
 # compat_util_test (picked up by tests/CMakeLists.txt): the util functions come from the real
 # libnnstreamer-single.so, the GStreamer-side ones from the plugin's compat objects.
 if(TARGET compat_util_test)
-  target_link_libraries(compat_util_test PRIVATE nnstreamer-single nns_compat_gst)
+  target_link_libraries(compat_util_test PRIVATE nnstreamer-single nns_compat_gst
+                        nnstreamer-decoder-util nnstreamer-converter-util)
   target_include_directories(compat_util_test PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
 endif()
 
@@ -26,7 +27,9 @@ add_test(NAME compat.exports
   COMMAND /usr/bin/python3 ${_c}/check_exports.py
           ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_INCLUDEDIR}/nnstreamer
           ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-single.so
-          ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer.so)
+          ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer.so
+          "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-decoder-util.so=loadImageLabels,initSingleLineSprite,_free_labels,setFramerateFromConfig"
+          "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-converter-util.so=tcu_get_out_config")
 set_tests_properties(compat.exports PROPERTIES LABELS compat TIMEOUT 60
   FIXTURES_REQUIRED compat_ext)
 

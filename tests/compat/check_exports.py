@@ -4,7 +4,9 @@
 puts it in: libnnstreamer-single.so for the GStreamer-free utility, configuration, logging and
 single-shot headers, the plugin libnnstreamer.so for the rest.
   check_exports.py <installed include/nnstreamer dir> <libnnstreamer-single.so> <libnnstreamer.so>
-Exits 1 listing each missing symbol with its header."""
+                   [<library>=<function>,<function>...]...
+The optional arguments list what a library without an installed header (NNStreamer's decoder and
+converter helper libraries) must export. Exits 1 listing each missing symbol."""
 import re
 import subprocess
 import sys
@@ -47,6 +49,13 @@ def main():
             checked += 1
             if fn not in libs[lib]:
                 missing.append(f"{h.name}: {fn} is not exported by {lib}")
+    for extra in sys.argv[4:]:
+        lib, _, names = extra.partition("=")
+        have = exported(lib)
+        for fn in names.split(","):
+            checked += 1
+            if fn not in have:
+                missing.append(f"{fn} is not exported by {lib}")
     print(f"{checked} declared functions checked")
     for m in missing:
         print(m)

@@ -393,3 +393,74 @@ TEST(CompatBuffer, HeaderOnMemory) {
 }
 
 }  // namespace
+
+// libnnstreamer-decoder-util.so / libnnstreamer-converter-util.so ------------------------------
+#include "compat/ext_util.h"
+
+namespace {
+
+TEST(CompatDecoderUtil, LabelsFromFile) {
+  std::string dir = nns::test::make_temp_dir();
+  std::string path = dir + "/labels.txt";
+  std::ofstream(path) << "cat\nbird\nox\n";
+  imglabel_t l{};
+  loadImageLabels(path.c_str(), &l);
+  ASSERT_EQ(l.total_labels, 3u);  // the last newline does not make a fourth, empty label
+  EXPECT_STREQ(l.labels[1], "bird");
+  EXPECT_EQ(l.max_word_length, 4u);
+  std::ofstream(path) << "a\n\nb";
+  loadImageLabels(path.c_str(), &l);  // replaces the old labels
+  ASSERT_EQ(l.total_labels, 3u);
+  EXPECT_STREQ(l.labels[1], "");
+  EXPECT_EQ(l.max_word_length, 1u);  // the old labels' lengths are forgotten
+  _free_labels(&l);
+  EXPECT_EQ(l.labels, nullptr);
+  EXPECT_EQ(l.total_labels, 0u);
+  loadImageLabels((dir + "/missing.txt").c_str(), &l);
+  EXPECT_EQ(l.labels, nullptr);
+  EXPECT_EQ(l.total_labels, 0u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CompatDecoderUtil, SpriteFromRasters) {
+  static uint8_t glyphs[95][13] = {};
+  glyphs['A' - 32][0] = 0x80;   // bottom row, leftmost pixel
+  glyphs['A' - 32][12] = 0x01;  // top row, rightmost pixel
+  glyphs['*' - 32][5] = 0xFF;
+  auto *sprite = new singleLineSprite_t[1];
+  initSingleLineSprite(*sprite, glyphs, 0xFF00FF00u);
+  EXPECT_EQ((*sprite)['A'][12][0], 0xFF00FF00u);
+  EXPECT_EQ((*sprite)['A'][12][1], 0u);
+  EXPECT_EQ((*sprite)['A'][0][7], 0xFF00FF00u);
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_EQ((*sprite)[200][7][k], 0xFF00FF00u) << k;  // non-ASCII: the '*' glyph
+    EXPECT_EQ((*sprite)[10][7][k], 0xFF00FF00u) << k;
+  }
+  EXPECT_EQ((*sprite)['B'][7][0], 0u);
+  delete[] sprite;
+}
+
+TEST(CompatExtUtil, FramerateAndConverterConfig) {
+  GstCaps *caps = gst_caps_new_empty_simple("video/x-raw");
+  Config c;
+  setFramerateFromConfig(caps, &c.c);  // rate unset: nothing
+  EXPECT_FALSE(gst_structure_has_field(gst_caps_get_structure(caps, 0), "framerate"));
+  c.c.rate_n = 15;
+  c.c.rate_d = 2;
+  setFramerateFromConfig(caps, &c.c);
+  EXPECT_EQ(caps_text(caps), "video/x-raw, framerate=(fraction)15/2");
+
+  caps = gst_caps_from_string("application/octet-stream");
+  ASSERT_TRUE(tcu_get_out_config(caps, &c.c));
+  EXPECT_EQ(take(gst_tensors_config_to_string(&c.c)),
+            "Format = static, Num_Tensors = 1, Tensors = [{ uint8 (1:1:1:1) }], Framerate = 0/1");
+  gst_caps_unref(caps);
+  caps = gst_caps_from_string("audio/x-raw,framerate=25/1");
+  ASSERT_TRUE(tcu_get_out_config(caps, &c.c));
+  EXPECT_EQ(c.c.rate_n, 25);
+  EXPECT_EQ(c.c.rate_d, 1);
+  gst_caps_unref(caps);
+  EXPECT_FALSE(tcu_get_out_config(nullptr, &c.c));
+}
+
+}  // namespace
