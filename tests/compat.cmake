@@ -8,7 +8,8 @@ set(NNS_COMPAT_TEST_DIR ${CMAKE_BINARY_DIR}/tests/compat)
 if(TARGET compat_util_test)
   target_link_libraries(compat_util_test PRIVATE nnstreamer-single nns_compat_gst
                         nnstreamer-decoder-util nnstreamer-converter-util)
-  target_include_directories(compat_util_test PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+  target_include_directories(compat_util_test PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer
+                             ${CMAKE_SOURCE_DIR}/backends)
 endif()
 
 # 1. Install the tree into a fresh prefix and build C extensions from it alone (fixture).

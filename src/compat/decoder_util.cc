@@ -6,6 +6,26 @@
 #include "compat/ext_util.h"
 #include "nnstreamer_log.h"
 
+// NNStreamer's `rasters`: the label glyphs of characters 32..126, 13 rows of 8 pixels, row 0 at
+// the bottom (NNStreamer's own bounding-box decoder reads them through initSingleLineSprite()).
+// Made from the bounding_boxes decoder's public-domain 8x13 font (top row first) when that
+// table is in the tree; without it the symbol is left out (docs/compat-nnstreamer-2x.md).
+#if __has_include("decoder/bounding_boxes/font_8x13.h")
+#include "decoder/bounding_boxes/font_8x13.h"
+
+// Same layout as uint8_t[95][13], filled at compile time; exported under the C name `rasters`.
+struct NnsCompatRasters {
+  uint8_t rows[95][13];
+  constexpr NnsCompatRasters() : rows{} {
+    for (int c = 0; c < 95; ++c)
+      for (int r = 0; r < 13; ++r) rows[c][r] = nns::bbox::kFont8x13[c][12 - r];
+  }
+};
+extern __attribute__((visibility("default")))
+const NnsCompatRasters nns_compat_rasters __asm__("rasters");
+const NnsCompatRasters nns_compat_rasters;
+#endif
+
 NNS_COMPAT_API void _free_labels(imglabel_t *data) {
   if (!data) return;
   if (data->labels) {

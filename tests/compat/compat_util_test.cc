@@ -464,3 +464,26 @@ TEST(CompatExtUtil, FramerateAndConverterConfig) {
 }
 
 }  // namespace
+
+// NNStreamer's `rasters` glyph table, exported when the bounding_boxes font is in the tree.
+#if __has_include("decoder/bounding_boxes/font_8x13.h")
+#include "decoder/bounding_boxes/font_8x13.h"
+
+extern "C" const uint8_t rasters[95][13];
+
+namespace {
+
+TEST(CompatDecoderUtil, RastersAreTheLabelFontBottomRowFirst) {
+  for (int c = 0; c < 95; ++c)
+    for (int r = 0; r < 13; ++r)
+      ASSERT_EQ(rasters[c][r], nns::bbox::kFont8x13[c][12 - r])
+          << "char " << c + 32 << " row " << r;
+  auto *sprite = new singleLineSprite_t[1];
+  initSingleLineSprite(*sprite, const_cast<uint8_t(*)[13]>(rasters), 1);
+  for (int x = 0; x < 8; ++x)  // sprite row 0 is the top row of the glyph
+    EXPECT_EQ((*sprite)['A'][0][x], (nns::bbox::kFont8x13['A' - 32][0] >> (7 - x)) & 1u) << x;
+  delete[] sprite;
+}
+
+}  // namespace
+#endif
