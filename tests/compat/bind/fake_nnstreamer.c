@@ -100,3 +100,18 @@ int nnstreamer_filter_dispatch_output_async(void *prop, void *output) {
   hit("nnstreamer_filter_dispatch_output_async");
   return -1;
 }
+
+/* Registration entry points of the sub-plugin and custom-callback APIs. */
+#define FAKE_REGISTER(fn)      \
+  int fn(const void *a, ...) { \
+    (void)a;                   \
+    hit(#fn);                  \
+    return 0;                  \
+  }
+
+FAKE_REGISTER(nnstreamer_decoder_probe)
+FAKE_REGISTER(registerExternalConverter)
+FAKE_REGISTER(nnstreamer_decoder_custom_register)
+FAKE_REGISTER(nnstreamer_converter_custom_register)
+FAKE_REGISTER(nnstreamer_if_custom_register)
+FAKE_REGISTER(nnstreamer_filter_probe)
