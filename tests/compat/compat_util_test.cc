@@ -392,6 +392,27 @@ TEST(CompatBuffer, HeaderOnMemory) {
   gst_buffer_unref(buf);
 }
 
+TEST(CompatBuffer, AllocInitAlignsTheDefaultAllocator) {
+  gst_tensor_alloc_init(255);  // GStreamer alignment mask: 256 bytes
+  for (int i = 0; i < 4; ++i) {
+    GstMemory *m = gst_allocator_alloc(nullptr, 100 + i, nullptr);
+    GstMapInfo map;
+    ASSERT_TRUE(gst_memory_map(m, &map, GST_MAP_READ));
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(map.data) % 256, 0u) << i;
+    gst_memory_unmap(m, &map);
+    gst_memory_unref(m);
+  }
+  GstAllocator *def = gst_allocator_find(nullptr);
+  EXPECT_STREQ(G_OBJECT_TYPE_NAME(def), "NnsCompatTensorAllocator");
+  gst_object_unref(def);
+  gst_tensor_alloc_init(0);  // back to the system allocator
+  def = gst_allocator_find(nullptr);
+  GstAllocator *sys = gst_allocator_find(GST_ALLOCATOR_SYSMEM);
+  EXPECT_EQ(def, sys);
+  gst_object_unref(def);
+  gst_object_unref(sys);
+}
+
 }  // namespace
 
 // libnnstreamer-decoder-util.so / libnnstreamer-converter-util.so ------------------------------
