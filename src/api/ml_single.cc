@@ -4,6 +4,7 @@
 // per-handle worker thread and the caller waits at most that long. Properties:
 // ml_single_props.cc; the handle's internals: ml_single_handle.cc.
 #include <cstring>
+#include <filesystem>
 
 #include "api/ml_single_handle.h"
 #include "core/filter_desc.h"
@@ -118,9 +119,28 @@ int open_common(ml_single_h *single, const char *models, const char *framework,
   if (out) h->spec.output = out->info;
   h->spec.custom = custom ? custom : "";
   h->spec.accelerator = accel ? accel : "";
+  // As NNStreamer: every model path must name a file (or a folder); custom-easy and cpp
+  // models are registered names instead.
+  if (h->spec.framework != "custom-easy" && h->spec.framework != "cpp")
+    for (std::size_t i = 0; i < h->spec.models.size(); ++i) {
+      std::error_code ec;
+      const std::string &m = h->spec.models[i];
+      if (m.empty() || (!std::filesystem::is_regular_file(m, ec) &&
+                        !(i == 0 && std::filesystem::is_directory(m, ec))))
+        return report(ML_ERROR_INVALID_PARAMETER, fn + ": model path [" + std::to_string(i) +
+                                                      "] '" + m +
+                                                      "' is not a file that can be read");
+    }
   try {
     auto conf = current_filter_conf();
-    h->be = FilterRegistry::get().resolve(h->spec.framework, h->spec.models, *conf);
+    try {
+      h->be = FilterRegistry::get().resolve(h->spec.framework, h->spec.models, *conf);
+    } catch (const Error &e) {
+      // No back end for the framework: NNStreamer's "not supported" (no sub-plugin).
+      if (e.kind() == ErrorKind::kNotFound)
+        return report(ML_ERROR_NOT_SUPPORTED, fn + ": " + e.what());
+      throw;
+    }
     h->inst = FilterInstance::open(h->be, h->spec);
     h->apply(settle(*h->inst, in ? &in->info : nullptr, out ? &out->info : nullptr, false));
   } catch (const Error &e) {
@@ -215,14 +235,6 @@ int invoke_dyn(SingleHandle &h, std::unique_lock<std::mutex> &lk, const std::str
   int rc = h.run_task(lk, fn, [inst, io] { io->out = run_dynamic(*inst, io->info, mems(io->in)); });
   if (rc == ML_ERROR_NONE) result = std::move(io->out);
   return rc;
-}
-
-int new_info_handle(const TensorsInfo &info, ml_tensors_info_h *out) {
-  auto *p = new (std::nothrow) TensorsInfoHandle();
-  if (!p) return report(ML_ERROR_OUT_OF_MEMORY, "out of memory");
-  p->info = info;
-  *out = p;
-  return ML_ERROR_NONE;
 }
 
 }  // namespace
