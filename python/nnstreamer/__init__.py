@@ -1,0 +1,35 @@
+# SPDX-License-Identifier: LGPL-2.1-only
+"""nnstreamer-cpp's ML API for Python.
+
+    import numpy as np, nnstreamer
+    with nnstreamer.Single("mobilenet_v2.onnx", "onnxruntime") as model:
+        scores, = model.invoke(np.zeros((1, 3, 224, 224), np.float32))
+
+Single wraps ml_single_* (libnnstreamer-single). Errors raise nnstreamer.Error (a
+RuntimeError) whose message is the library's ml_error() text and whose .code is the
+ml_error_e value (nnstreamer.ERROR_*). Shapes are numpy's (outermost first): NNStreamer's
+dimension 3:224:224:1 is the shape (1, 224, 224, 3).
+"""
+from ._nnstreamer import (  # noqa: F401
+    ERROR_INVALID_PARAMETER,
+    ERROR_IO_ERROR,
+    ERROR_NONE,
+    ERROR_NOT_SUPPORTED,
+    ERROR_OUT_OF_MEMORY,
+    ERROR_PERMISSION_DENIED,
+    ERROR_STREAMS_PIPE,
+    ERROR_TIMED_OUT,
+    ERROR_TRY_AGAIN,
+    ERROR_UNKNOWN,
+    Error,
+    Single,
+    TensorInfo,
+    ml_api_version,
+)
+
+__all__ = [
+    "Error",
+    "Single",
+    "TensorInfo",
+    "ml_api_version",
+]
