@@ -256,7 +256,9 @@ int apply_input_info(SingleHandle &h, const TensorsInfo &info, const std::string
       }
       return h.fail(ML_ERROR_NOT_SUPPORTED, fn + ": " + h.inst->describe() +
                                                 " cannot change its input from " +
-                                                h.in.to_string() + " to " + info.to_string());
+                                                h.in.to_string() + " to " + info.to_string() +
+                                                ": the back end runs this model with fixed input "
+                                                "shapes only");
     }
   } catch (const Error &e) {
     return h.fail(ML_ERROR_INVALID_PARAMETER, fn + ": " + e.what());
@@ -264,7 +266,7 @@ int apply_input_info(SingleHandle &h, const TensorsInfo &info, const std::string
   h.in = info;
   h.out = out;
   h.out_from_user = false;
-  h.dynamic = out.size() == 0 && h.inst->backend().invoke_dynamic;
+  h.dynamic = out.size() == 0 && supports_dynamic(*h.inst);
   return ML_ERROR_NONE;
 }
 
@@ -427,7 +429,7 @@ NNS_API int ml_single_invoke_dynamic(ml_single_h single, const ml_tensors_data_h
   int rc;
   try {
     bool same = ii->info.same_as(h->in);
-    if (h->inst->backend().invoke_dynamic && (h->dynamic || !h->declared || !same)) {
+    if (supports_dynamic(*h->inst) && (h->dynamic || !h->declared || !same)) {
       // The back end takes this call's shapes and reports the output's.
       rc = invoke_dyn(*h, lk, fn, *in, ii->info, out);
       if (rc != ML_ERROR_NONE) return rc;

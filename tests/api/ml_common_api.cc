@@ -476,4 +476,74 @@ TEST(MlCommonRank, ModelInfoOfRankFiveIsExtended) {
   NNS_custom_easy_unregister("mlc_rank5");
 }
 
+// A .tflite model on Arm NN (framework tensorflow-lite resolves to armnn here): Arm NN 20.08
+// networks have fixed shapes, so another input shape is ML_ERROR_NOT_SUPPORTED with a message
+// that says so, and the handle keeps working with the model's own shape.
+TEST(MlSingleArmnn, FixedShapesOnlyAndSaysSo) {
+  const std::string model = std::string(NNS_BUILD_DIR) + "/tests/models/add_mul.tflite";
+  if (!std::filesystem::exists(std::string(NNS_BUILD_DIR) +
+                               "/subplugins/filters/libnnstreamer_filter_armnn.so"))
+    GTEST_SKIP() << "the armnn back end is not built";
+  if (!std::filesystem::exists(model)) GTEST_SKIP() << model << " missing (nns_test_models)";
+  ml_single_h h = nullptr;
+  ASSERT_EQ(ml_single_open(&h, model.c_str(), nullptr, nullptr, ML_NNFW_TYPE_TENSORFLOW_LITE,
+                           ML_NNFW_HW_ANY),
+            ML_ERROR_NONE)
+      << ml_error();
+  ml_tensors_info_h in = nullptr;
+  ASSERT_EQ(ml_single_get_input_info(h, &in), ML_ERROR_NONE);
+  unsigned n = 0;
+  ASSERT_EQ(ml_tensors_info_get_count(in, &n), ML_ERROR_NONE);
+  ASSERT_EQ(n, 2u);
+  EXPECT_EQ(dims_of(in, 0), padded({4, 3, 1}));
+  // The model's own shape: a+b and a*b.
+  ml_tensors_data_h data = nullptr, out = nullptr;
+  ASSERT_EQ(ml_tensors_data_create(in, &data), ML_ERROR_NONE);
+  std::vector<float> a(12), b(12);
+  for (int i = 0; i < 12; ++i) {
+    a[i] = 0.5f * i;
+    b[i] = 2.0f - i;
+  }
+  ASSERT_EQ(ml_tensors_data_set_tensor_data(data, 0, a.data(), 48), ML_ERROR_NONE);
+  ASSERT_EQ(ml_tensors_data_set_tensor_data(data, 1, b.data(), 48), ML_ERROR_NONE);
+  ASSERT_EQ(ml_single_invoke(h, data, &out), ML_ERROR_NONE) << ml_error();
+  void *p0 = nullptr, *p1 = nullptr;
+  size_t s0 = 0, s1 = 0;
+  ASSERT_EQ(ml_tensors_data_get_tensor_data(out, 0, &p0, &s0), ML_ERROR_NONE);
+  ASSERT_EQ(ml_tensors_data_get_tensor_data(out, 1, &p1, &s1), ML_ERROR_NONE);
+  ASSERT_EQ(s0, 48u);
+  for (int i = 0; i < 12; ++i) {
+    EXPECT_FLOAT_EQ(static_cast<float *>(p0)[i], a[i] + b[i]) << i;
+    EXPECT_FLOAT_EQ(static_cast<float *>(p1)[i], a[i] * b[i]) << i;
+  }
+  ml_tensors_data_destroy(out);
+  // The same shapes: accepted without asking the back end.
+  EXPECT_EQ(ml_single_set_input_info(h, in), ML_ERROR_NONE) << ml_error();
+  // Batch 2: not supported, and the message names the shapes and the reason.
+  Info batch2(true);
+  ml_tensor_dimension d2 = {4, 3, 2};
+  ASSERT_EQ(ml_tensors_info_set_count(batch2.h, 2), ML_ERROR_NONE);
+  for (unsigned i = 0; i < 2; ++i) {
+    ASSERT_EQ(ml_tensors_info_set_tensor_type(batch2.h, i, ML_TENSOR_TYPE_FLOAT32), ML_ERROR_NONE);
+    ASSERT_EQ(ml_tensors_info_set_tensor_dimension(batch2.h, i, d2), ML_ERROR_NONE);
+  }
+  EXPECT_EQ(ml_single_set_input_info(h, batch2.h), ML_ERROR_NOT_SUPPORTED);
+  const std::string err = ml_error() ? ml_error() : "";
+  EXPECT_NE(err.find("cannot change its input from"), std::string::npos) << err;
+  EXPECT_NE(err.find("4:3:2"), std::string::npos) << err;
+  EXPECT_NE(err.find("fixed input shapes only"), std::string::npos) << err;
+  ml_tensors_data_h data2 = nullptr;
+  ml_tensors_info_h oi = nullptr;
+  ASSERT_EQ(ml_tensors_data_create(batch2.h, &data2), ML_ERROR_NONE);
+  EXPECT_EQ(ml_single_invoke_dynamic(h, data2, batch2.h, &out, &oi), ML_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(out, nullptr);
+  // Still the model's shape afterwards.
+  ASSERT_EQ(ml_single_invoke(h, data, &out), ML_ERROR_NONE) << ml_error();
+  ml_tensors_data_destroy(out);
+  ml_tensors_data_destroy(data2);
+  ml_tensors_data_destroy(data);
+  ml_tensors_info_destroy(in);
+  ml_single_close(h);
+}
+
 }  // namespace
