@@ -20,7 +20,7 @@ ext = Pybind11Extension(
     include_dirs=[os.path.join(HERE, "src"), include_dir, os.path.join(ROOT, "src")],
     library_dirs=[lib_dir],
     runtime_library_dirs=[lib_dir],
-    libraries=["nnstreamer-single"],
+    libraries=["capi-nnstreamer", "nnstreamer-single"],
     cxx_std=20,
 )
 

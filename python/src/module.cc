@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // nnstreamer._nnstreamer: the extension module under the `nnstreamer` package. Errors,
 // TensorInfo, dtype/shape conversion, zero-copy output arrays; the classes are bound in
-// single.cc (and pipeline.cc).
+// single.cc and pipeline.cc.
 #include <cstring>
 
 #include "nns_py.h"
@@ -217,4 +217,5 @@ PYBIND11_MODULE(_nnstreamer, m) {
   m.attr("ml_api_version") = std::string(v ? v : "");
   std::free(v);
   py::bind_single(m);
+  py::bind_pipeline(m);
 }

@@ -57,5 +57,6 @@ pyb::list specs_to_py(const std::vector<TensorSpec> &specs);
 pyb::list arrays_over(ml_tensors_data_h data, const std::vector<TensorSpec> &specs);
 
 void bind_single(pyb::module_ &m);
+void bind_pipeline(pyb::module_ &m);
 
 }  // namespace nns::py
