@@ -243,7 +243,9 @@ TEST(MlCommonInformation, GetIterateAndList) {
   ASSERT_EQ(_ml_information_set(a, "name", strdup("mobilenet"), free_string), ML_ERROR_NONE);
   ASSERT_EQ(_ml_information_set(a, "version", strdup("1"), free_string), ML_ERROR_NONE);
   ASSERT_EQ(_ml_information_set(a, "version", strdup("2"), free_string), ML_ERROR_NONE);
-  EXPECT_EQ(_ml_information_set(a, "", strdup("x"), free_string) == kInval, true);
+  char x[] = "x";  // refused: the library takes no ownership of it
+  EXPECT_EQ(_ml_information_set(a, "", x, nullptr), kInval);
+  EXPECT_EQ(_ml_information_set(nullptr, "k", x, nullptr), kInval);
   EXPECT_EQ(_ml_information_set(a, "k", nullptr, nullptr), kInval);
   void *v = nullptr;
   ASSERT_EQ(ml_information_get(a, "version", &v), ML_ERROR_NONE);
