@@ -478,6 +478,63 @@ TEST(MlCommonRank, ModelInfoOfRankFiveIsExtended) {
   NNS_custom_easy_unregister("mlc_rank5");
 }
 
+// NULL arguments of every ml_single_* call on a live handle (NNStreamer's
+// invoke_invalid_param, invoke_dynamic_fail, property_02, set_input_info_fail tests).
+TEST(MlCommonErrors, SingleArgumentChecks) {
+  GstTensorsInfo io{};
+  io.num_tensors = 1;
+  io.info[0].type = _NNS_UINT8;
+  io.info[0].dimension[0] = 4;
+  ASSERT_EQ(NNS_custom_easy_register("mlc_args", copy5, nullptr, &io, &io), 0);
+  ml_option_h opt = nullptr;
+  ASSERT_EQ(ml_option_create(&opt), ML_ERROR_NONE);
+  char model[] = "mlc_args", fw[] = "custom-easy";
+  ml_option_set(opt, "models", model, nullptr);
+  ml_option_set(opt, "framework_name", fw, nullptr);
+  ml_single_h h = nullptr;
+  ASSERT_EQ(ml_single_open_with_option(&h, opt), ML_ERROR_NONE) << ml_error();
+  ml_option_destroy(opt);
+  ml_tensors_info_h in_info = nullptr, out_info = nullptr;
+  ASSERT_EQ(ml_single_get_input_info(h, &in_info), ML_ERROR_NONE);
+  ml_tensors_data_h in = nullptr, out = nullptr;
+  ASSERT_EQ(ml_tensors_data_create(in_info, &in), ML_ERROR_NONE);
+  EXPECT_EQ(ml_single_invoke(nullptr, in, &out), kInval);
+  EXPECT_EQ(ml_single_invoke(h, nullptr, &out), kInval);
+  EXPECT_EQ(ml_single_invoke(h, in, nullptr), kInval);
+  EXPECT_EQ(ml_single_invoke_fast(h, in, nullptr), kInval);
+  EXPECT_EQ(ml_single_invoke_fast(h, nullptr, in), kInval);
+  EXPECT_EQ(ml_single_invoke_dynamic(nullptr, in, in_info, &out, &out_info), kInval);
+  EXPECT_EQ(ml_single_invoke_dynamic(h, nullptr, in_info, &out, &out_info), kInval);
+  EXPECT_EQ(ml_single_invoke_dynamic(h, in, nullptr, &out, &out_info), kInval);
+  EXPECT_EQ(ml_single_invoke_dynamic(h, in, in_info, nullptr, &out_info), kInval);
+  EXPECT_EQ(ml_single_invoke_dynamic(h, in, in_info, &out, nullptr), kInval);
+  EXPECT_EQ(ml_single_set_input_info(h, nullptr), kInval);
+  Info empty;
+  EXPECT_EQ(ml_single_set_input_info(h, empty.h), kInval);
+  EXPECT_EQ(ml_single_get_input_info(h, nullptr), kInval);
+  EXPECT_EQ(ml_single_get_output_info(h, nullptr), kInval);
+  EXPECT_EQ(ml_single_get_output_info(nullptr, &out_info), kInval);
+  char *value = nullptr;
+  EXPECT_EQ(ml_single_get_property(h, "unknown_prop", &value), ML_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(ml_single_set_property(h, "unknown_prop", "INVALID"), ML_ERROR_NOT_SUPPORTED);
+  EXPECT_EQ(ml_single_set_property(h, "input", nullptr), kInval);
+  EXPECT_EQ(ml_single_set_property(h, nullptr, "INVALID"), kInval);
+  EXPECT_EQ(ml_single_get_property(h, "input", nullptr), kInval);
+  EXPECT_EQ(ml_single_get_property(h, nullptr, &value), kInval);
+  // A fixed model refuses another input through the property, and keeps its own.
+  EXPECT_EQ(ml_single_set_property(h, "input", "3:4:4:1"), ML_ERROR_NOT_SUPPORTED);
+  ASSERT_EQ(ml_single_get_property(h, "input", &value), ML_ERROR_NONE);
+  EXPECT_STREQ(value, "4");
+  std::free(value);
+  // Still usable after all of that.
+  ASSERT_EQ(ml_single_invoke(h, in, &out), ML_ERROR_NONE) << ml_error();
+  ml_tensors_data_destroy(out);
+  ml_tensors_data_destroy(in);
+  ml_tensors_info_destroy(in_info);
+  EXPECT_EQ(ml_single_close(h), ML_ERROR_NONE);
+  NNS_custom_easy_unregister("mlc_args");
+}
+
 // A .tflite model on Arm NN (framework tensorflow-lite resolves to armnn here): Arm NN 20.08
 // networks have fixed shapes, so another input shape is ML_ERROR_NOT_SUPPORTED with a message
 // that says so, and the handle keeps working with the model's own shape.
