@@ -164,3 +164,14 @@ def test_mobilenet_onnxruntime_classifies_the_orange(shared_models):
         assert spec.dtype == np.float32 and spec.shape == x.shape
         (scores,) = model.invoke(x)
         assert int(np.argmax(scores)) == 950  # "orange" among the 1000 ImageNet classes
+
+
+def test_python3_back_end_runs_in_this_interpreter():
+    """framework=python3 inside a Python process: the back end shares this interpreter."""
+    require(backend_built("python3"), "the python3 back end is not built")
+    script = pathlib.Path(__file__).parents[2] / "tests" / "data" / "python" / "identity.py"
+    spec = [(np.float32, (4,))]
+    with nnstreamer.Single(str(script), "python3", input_info=spec, output_info=spec) as model:
+        x = np.array([0.5, -1.0, 2.0, 3.5], np.float32)
+        (y,) = model.invoke(x)
+        np.testing.assert_array_equal(y.ravel(), x)
