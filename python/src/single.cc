@@ -4,9 +4,13 @@
 // the tensor's dtype); outputs are numpy arrays over the ML API's output buffers (no copy).
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <chrono>
+#include <climits>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <shared_mutex>
 
 #include "api/ml_api_internal.h"
 #include "nns_py.h"
@@ -81,34 +85,39 @@ class Single {
       check(ml_option_set(opt, "custom", custom.data(), nullptr), "ml_option_set");
     if (in) check(ml_option_set(opt, "input_info", in.get(), nullptr), "ml_option_set");
     if (out) check(ml_option_set(opt, "output_info", out.get(), nullptr), "ml_option_set");
+    ml_single_h h = nullptr;
+    int rc;
     {
       pyb::gil_scoped_release nogil;
-      rc_ = ml_single_open_with_option(&h_, opt);
+      rc = ml_single_open_with_option(&h, opt);
     }
-    check(rc_, "ml_single_open");
+    check(rc, "ml_single_open");
+    h_ = h;
     try {
-      if (timeout) check(ml_single_set_timeout(h_, *timeout), "ml_single_set_timeout");
+      if (timeout) set_timeout(*timeout);
       for (auto &[k, v] : props) set_property(k, v);
       refresh();
     } catch (...) {
-      ml_single_close(h_);
-      h_ = nullptr;
+      close();
       throw;
     }
   }
 
   ~Single() { close(); }
 
+  // Waits for calls of other threads that run without the GIL, then closes the handle.
   void close() {
-    if (!h_) return;
+    if (!h_.load()) return;
+    {
+      pyb::gil_scoped_release nogil;
+      std::unique_lock lk(use_);
+      if (ml_single_h h = h_.exchange(nullptr)) ml_single_close(h);
+    }
     in_info_.reset();
-    pyb::gil_scoped_release nogil;
-    ml_single_close(h_);
-    h_ = nullptr;
   }
 
   pyb::list invoke(const pyb::args &args) {
-    ml_single_h h = handle();
+    handle();
     const std::size_t n = args.size();
     if (n != in_.size())
       throw MlError{ML_ERROR_INVALID_PARAMETER, "invoke: " + std::to_string(n) +
@@ -135,12 +144,8 @@ class Single {
     check(nns_ml_tensors_data_wrap(in_info_.get(), ptrs, static_cast<unsigned>(n), &in), "invoke");
     DataPtr in_guard(in);
     ml_tensors_data_h out = nullptr;
-    int rc;
-    {
-      pyb::gil_scoped_release nogil;
-      rc = ml_single_invoke(h, in, &out);
-    }
-    check(rc, "ml_single_invoke");
+    check(without_gil([&](ml_single_h h) { return ml_single_invoke(h, in, &out); }),
+          "ml_single_invoke");
     DataPtr out_guard(out);
     if (out_dynamic_) {  // the output is decided per call: its info comes with the data
       ml_tensors_info_h oi = nullptr;
@@ -157,32 +162,28 @@ class Single {
 
   void set_input_info(const pyb::object &info) {
     InfoPtr p(info_from_py(info));
-    int rc;
-    {
-      pyb::gil_scoped_release nogil;
-      rc = ml_single_set_input_info(handle(), p.get());
-    }
-    check(rc, "ml_single_set_input_info");
+    check(without_gil([&](ml_single_h h) { return ml_single_set_input_info(h, p.get()); }),
+          "ml_single_set_input_info");
     refresh();
   }
 
   void set_timeout(unsigned ms) {
-    check(ml_single_set_timeout(handle(), ms), "ml_single_set_timeout");
+    check(with_gil([&](ml_single_h h) { return ml_single_set_timeout(h, ms); }),
+          "ml_single_set_timeout");
   }
 
   void set_property(const std::string &name, const std::string &value) {
-    int rc;
-    {
-      pyb::gil_scoped_release nogil;
-      rc = ml_single_set_property(handle(), name.c_str(), value.c_str());
-    }
-    check(rc, "ml_single_set_property");
+    check(without_gil([&](ml_single_h h) {
+            return ml_single_set_property(h, name.c_str(), value.c_str());
+          }),
+          "ml_single_set_property");
     refresh();
   }
 
   std::string get_property(const std::string &name) {
     char *v = nullptr;
-    check(ml_single_get_property(handle(), name.c_str(), &v), "ml_single_get_property");
+    check(with_gil([&](ml_single_h h) { return ml_single_get_property(h, name.c_str(), &v); }),
+          "ml_single_get_property");
     std::string s = v ? v : "";
     std::free(v);
     return s;
@@ -191,7 +192,7 @@ class Single {
   // Benchmark helper: the same invoke from C (data created once, output destroyed each time),
   // `count` times; returns seconds per call.
   double c_invoke_seconds(const pyb::list &args, unsigned count) {
-    ml_single_h h = handle();
+    handle();
     ml_tensors_data_h in = nullptr;
     check(ml_tensors_data_create(in_info_.get(), &in), "ml_tensors_data_create");
     DataPtr g(in);
@@ -201,24 +202,48 @@ class Single {
                                             static_cast<std::size_t>(a.nbytes())),
             "ml_tensors_data_set_tensor_data");
     }
-    pyb::gil_scoped_release nogil;
-    auto t0 = std::chrono::steady_clock::now();
-    for (unsigned k = 0; k < count; ++k) {
-      ml_tensors_data_h out = nullptr;
-      if (ml_single_invoke(h, in, &out) != ML_ERROR_NONE) {
-        pyb::gil_scoped_acquire gil;
-        check(ML_ERROR_STREAMS_PIPE, "ml_single_invoke");
-      }
-      ml_tensors_data_destroy(out);
-    }
-    auto t1 = std::chrono::steady_clock::now();
-    return std::chrono::duration<double>(t1 - t0).count() / (count ? count : 1);
+    double seconds = 0;
+    check(without_gil([&](ml_single_h h) {
+            auto t0 = std::chrono::steady_clock::now();
+            for (unsigned k = 0; k < count; ++k) {
+              ml_tensors_data_h out = nullptr;
+              if (int rc = ml_single_invoke(h, in, &out)) return rc;
+              ml_tensors_data_destroy(out);
+            }
+            seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            return static_cast<int>(ML_ERROR_NONE);
+          }),
+          "ml_single_invoke");
+    return seconds / (count ? count : 1);
   }
 
  private:
-  ml_single_h handle() const {
-    if (!h_) throw MlError{ML_ERROR_INVALID_PARAMETER, "the Single is closed"};
-    return h_;
+  static constexpr int kClosed = INT_MIN;  // not an ml_error_e
+
+  void handle() const {
+    if (!h_.load()) throw MlError{ML_ERROR_INVALID_PARAMETER, "the Single is closed"};
+  }
+
+  // Runs fn(handle) with the handle kept open (close() on another thread waits): without the
+  // GIL for calls that may take long, with it for quick ones. "Closed" becomes an MlError.
+  template <typename F>
+  int without_gil(F &&fn) {
+    int rc;
+    {
+      pyb::gil_scoped_release nogil;
+      std::shared_lock lk(use_);
+      ml_single_h h = h_.load();
+      rc = h ? fn(h) : kClosed;
+    }
+    if (rc == kClosed) handle();
+    return rc;
+  }
+  template <typename F>
+  int with_gil(F &&fn) {
+    std::shared_lock lk(use_);
+    ml_single_h h = h_.load();
+    if (!h) handle();
+    return fn(h);
   }
 
   // `o` as an array of input i's dtype, C-contiguous: the object itself when it is one,
@@ -263,12 +288,10 @@ class Single {
     DataPtr in_guard(in);
     ml_tensors_data_h out = nullptr;
     ml_tensors_info_h out_info = nullptr;
-    int rc;
-    {
-      pyb::gil_scoped_release nogil;
-      rc = ml_single_invoke_dynamic(handle(), in, info.get(), &out, &out_info);
-    }
-    check(rc, "ml_single_invoke_dynamic");
+    check(without_gil([&](ml_single_h h) {
+            return ml_single_invoke_dynamic(h, in, info.get(), &out, &out_info);
+          }),
+          "ml_single_invoke_dynamic");
     DataPtr out_guard(out);
     InfoPtr oi(out_info);
     auto out_specs = specs_of(out_info);
@@ -285,17 +308,19 @@ class Single {
   // The handle's input/output info, cached for invoke.
   void refresh() {
     ml_tensors_info_h in = nullptr, out = nullptr;
-    check(ml_single_get_input_info(h_, &in), "ml_single_get_input_info");
+    check(with_gil([&](ml_single_h h) { return ml_single_get_input_info(h, &in); }),
+          "ml_single_get_input_info");
     in_info_.reset(in);
     in_ = specs_of(in);
-    check(ml_single_get_output_info(h_, &out), "ml_single_get_output_info");
+    check(with_gil([&](ml_single_h h) { return ml_single_get_output_info(h, &out); }),
+          "ml_single_get_output_info");
     InfoPtr g(out);
     out_ = specs_of(out);
     out_dynamic_ = out_.empty();
   }
 
-  ml_single_h h_ = nullptr;
-  int rc_ = 0;
+  std::atomic<ml_single_h> h_{nullptr};
+  std::shared_mutex use_;  // shared: a call on the handle; exclusive: close()
   InfoPtr in_info_;
   std::vector<TensorSpec> in_, out_;
   bool out_dynamic_ = false;

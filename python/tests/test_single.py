@@ -175,3 +175,29 @@ def test_python3_back_end_runs_in_this_interpreter():
         x = np.array([0.5, -1.0, 2.0, 3.5], np.float32)
         (y,) = model.invoke(x)
         np.testing.assert_array_equal(y.ravel(), x)
+
+
+def test_close_while_other_threads_invoke(probe):
+    """close() waits for invokes running without the GIL; later ones raise "closed"."""
+    import threading
+
+    model = nnstreamer.Single(probe, "custom", custom="float32,3:64:64:1")
+    x = np.ones((1, 64, 64, 3), np.float32)
+    errors, done = [], []
+
+    def worker():
+        try:
+            for _ in range(2000):
+                np.testing.assert_array_equal(model.invoke(x)[0], x)
+        except nnstreamer.Error as e:
+            errors.append(str(e))
+        done.append(1)
+
+    threads = [threading.Thread(target=worker) for _ in range(3)]
+    for t in threads:
+        t.start()
+    model.close()
+    for t in threads:
+        t.join(30)
+    assert len(done) == 3
+    assert all("closed" in e for e in errors)
