@@ -175,24 +175,37 @@ const char *nnfw_subplugin(ml_nnfw_type_e nnfw) {
   return nullptr;
 }
 
-bool hw_known(ml_nnfw_hw_e hw) {
+// tensor_filter accelerator= name of `hw` ("" for ANY/AUTO: no hardware check), nullptr when
+// `hw` is not an ml_nnfw_hw_e value. 0x1nnn, 0x2nnn, 0x3nnn: a numbered CPU, GPU or NPU.
+const char *accelerator_name(ml_nnfw_hw_e hw) {
   switch (hw) {
     case ML_NNFW_HW_ANY:
     case ML_NNFW_HW_AUTO:
+      return "";
     case ML_NNFW_HW_CPU:
+      return "cpu";
     case ML_NNFW_HW_CPU_SIMD:
+      return "cpu.simd";
     case ML_NNFW_HW_GPU:
+      return "gpu";
     case ML_NNFW_HW_NPU:
+      return "npu";
     case ML_NNFW_HW_NPU_MOVIDIUS:
+      return "npu.movidius";
     case ML_NNFW_HW_NPU_EDGE_TPU:
+      return "npu.edgetpu";
     case ML_NNFW_HW_NPU_VIVANTE:
+      return "npu.vivante";
     case ML_NNFW_HW_NPU_SLSI:
+      return "npu.slsi";
     case ML_NNFW_HW_NPU_SR:
-      return true;
+      return "npu.sr";
   }
-  // 0x1nnn: CPU core nnn-1, 0x2nnn: GPU, 0x3nnn: NPU.
   int h = static_cast<int>(hw);
-  return (h > 0x1000 && h < 0x1100) || (h > 0x2000 && h < 0x3000) || (h > 0x3000 && h < 0x4000);
+  if (h > 0x1000 && h < 0x1100) return "cpu";
+  if (h > 0x2000 && h < 0x3000) return "gpu";
+  if (h > 0x3000 && h < 0x4000) return "npu";
+  return nullptr;
 }
 
 }  // namespace
@@ -383,29 +396,32 @@ NNS_CAPI int ml_check_nnfw_availability_full(ml_nnfw_type_e nnfw, ml_nnfw_hw_e h
     return fail(ML_ERROR_INVALID_PARAMETER, std::string(F) + ": nnfw " +
                                                 std::to_string(static_cast<int>(nnfw)) +
                                                 " is not an ml_nnfw_type_e value");
-  if (!hw_known(hw))
-    return fail(
-        ML_ERROR_INVALID_PARAMETER, std::string(F) + ": hw 0x" + [&] {
-          char b[16];
-          snprintf(b, sizeof b, "%x", static_cast<unsigned>(hw));
-          return std::string(b);
-        }() + " is not an ml_nnfw_hw_e value");
-  *available = false;
-  // Every back end of this project runs on the CPU only.
-  int h = static_cast<int>(hw);
-  bool cpu = hw == ML_NNFW_HW_ANY || hw == ML_NNFW_HW_AUTO || (h >= 0x1000 && h < 0x2000);
-  if (!cpu) return ML_ERROR_NONE;
-  if (!*name) {
-    *available = true;
-    return ML_ERROR_NONE;
+  if (!*name)
+    return fail(ML_ERROR_INVALID_PARAMETER,
+                std::string(F) + ": ML_NNFW_TYPE_ANY names no framework; ask for one");
+  const char *accl = accelerator_name(hw);
+  if (!accl) {
+    char b[16];
+    snprintf(b, sizeof b, "%x", static_cast<unsigned>(hw));
+    return fail(ML_ERROR_INVALID_PARAMETER,
+                std::string(F) + ": hw 0x" + b + " is not an ml_nnfw_hw_e value");
   }
+  *available = false;
   try {
     auto conf = current_filter_conf();
-    for (const auto &cand : FilterRegistry::name_candidates(name, *conf))
-      if (FilterRegistry::get().find(cand, *conf)) {
+    for (const auto &cand : FilterRegistry::name_candidates(name, *conf)) {
+      BackendRef ref = FilterRegistry::get().find(cand, *conf);
+      if (!ref) continue;
+      // ANY/AUTO: the framework is there. Otherwise the back end decides; one without a
+      // check runs on the CPU only.
+      if (!*accl)
         *available = true;
-        break;
-      }
+      else if (ref.iface->check_accelerator)
+        *available = ref.iface->check_accelerator(accl) == 0;
+      else
+        *available = std::string_view(accl).starts_with("cpu");
+      if (*available) break;
+    }
   } catch (const std::exception &e) {
     GST_CAT_INFO(capi_debug, "%s: %s", F, e.what());
   }

@@ -47,7 +47,7 @@ GstBusSyncReply on_bus(GstBus *, GstMessage *msg, gpointer user) {
       g_free(dbg);
       GST_CAT_WARNING(capi_debug, "%s: %s", p->describe().c_str(), text.c_str());
       std::lock_guard lk(p->err_mu);
-      p->last_error = std::move(text);
+      if (p->last_error.empty()) p->last_error = std::move(text);  // the first says most
       break;
     }
     case GST_MESSAGE_STATE_CHANGED:

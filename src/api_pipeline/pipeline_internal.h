@@ -84,6 +84,9 @@ struct Node {
   std::thread::id dispatch_thread;
   bool dispatching = false;
   bool have_format = false;
+  std::atomic<bool> format_stale{true};  // set by the sink pad's notify::caps
+  GstPad *caps_pad = nullptr;            // owned reference while connected
+  gulong caps_id = 0;
   bool flexible = false;
   api::TensorsInfoHandle info;  // handed to callbacks
   api::TensorsDataHandle data;  // buffers point into mapped memory during a callback
@@ -106,7 +109,7 @@ struct Pipeline {
   std::atomic<bool> eos{false};
 
   std::mutex err_mu;
-  std::string last_error;  // "<element>: <message> (<debug>)" of the last bus error
+  std::string last_error;  // "<element>: <message> (<debug>)": first bus error since take_error()
 
   // Calls in progress that run without g_mu (destroy waits for them).
   std::mutex use_mu;
@@ -115,7 +118,7 @@ struct Pipeline {
   bool dying = false;
 
   std::string describe() const;  // "pipeline #3"
-  std::string take_error();      // last bus error, "" if none
+  std::string take_error();      // that error, "" if none; clears it
 };
 
 std::mutex &registry_lock();

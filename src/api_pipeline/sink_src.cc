@@ -34,6 +34,7 @@ bool read_sink_format(Node *n) {
       TensorsConfig c = gst::config_from_caps(caps);
       n->flexible = c.info.format != TensorFormat::kStatic;
       fill_info_handle(n->info, c.info);
+      n->data.info = c.info;
       ok = true;
     }
   } catch (const std::exception &e) {
@@ -46,7 +47,11 @@ bool read_sink_format(Node *n) {
 void dispatch(Node *n, GstBuffer *buf) {
   std::lock_guard lk(n->cb_mu);
   if (n->sinks.empty()) return;
-  if (!n->have_format && !(n->have_format = read_sink_format(n))) {
+  if (n->format_stale.load(std::memory_order_acquire)) {  // first buffer, or new caps
+    n->format_stale.store(false, std::memory_order_relaxed);
+    n->have_format = read_sink_format(n);
+  }
+  if (!n->have_format) {
     GST_CAT_WARNING(capi_debug, "sink '%s': no tensor caps yet; buffer not delivered",
                     n->name.c_str());
     return;
@@ -102,7 +107,7 @@ void dispatch(Node *n, GstBuffer *buf) {
       flex.format = TensorFormat::kStatic;
       fill_info_handle(n->info, flex);
     }
-    if (d.info.size() != n->info.info.size() || n->flexible) d.info = n->info.info;
+    if (n->flexible) d.info = n->info.info;
     Pipeline *prev = t_dispatch_pipe;
     t_dispatch_pipe = n->pipe;
     n->dispatching = true;
@@ -128,6 +133,10 @@ void dispatch(Node *n, GstBuffer *buf) {
     if (i < count && maps[i].memory) gst_memory_unmap(mems[i], &maps[i]);
     gst_memory_unref(mems[i]);
   }
+}
+
+void on_caps(GObject *, GParamSpec *, gpointer user) {
+  static_cast<Node *>(user)->format_stale.store(true, std::memory_order_release);
 }
 
 void on_new_data(GstElement *, GstBuffer *buf, gpointer user) {
@@ -161,9 +170,10 @@ int src_format(Node *n, TensorsInfo *info, bool *media, const char *func) {
   if (!pad)
     return fail(ML_ERROR_STREAMS_PIPE,
                 std::string(func) + ": appsrc '" + n->name + "' has no src pad");
-  // Negotiated caps, else the caps property the application set, else what the peer allows.
-  GstCaps *caps = gst_pad_get_current_caps(pad);
-  if (!caps) caps = gst_app_src_get_caps(GST_APP_SRC(n->element));
+  // The caps property (what the next buffer will carry), else the negotiated caps, else what
+  // the peer allows.
+  GstCaps *caps = gst_app_src_get_caps(GST_APP_SRC(n->element));
+  if (!caps) caps = gst_pad_get_current_caps(pad);
   if (!caps) caps = gst_pad_get_allowed_caps(pad);
   gst_object_unref(pad);
   if (caps && !gst_caps_is_fixed(caps) && !gst_caps_is_empty(caps) && !gst_caps_is_any(caps))
@@ -218,6 +228,11 @@ void close_sinks(Node *n) {
   if (n->signal_id) {
     g_signal_handler_disconnect(n->element, n->signal_id);
     n->signal_id = 0;
+  }
+  if (n->caps_pad) {
+    g_signal_handler_disconnect(n->caps_pad, n->caps_id);
+    gst_object_unref(n->caps_pad);
+    n->caps_pad = nullptr;
   }
   for (Handle *h : n->sinks) {
     std::erase(n->handles, h);
@@ -281,6 +296,12 @@ NNS_CAPI int ml_pipeline_sink_register(ml_pipeline_h pipe, const char *sink_name
         g_object_set(n->element, "emit-signals", TRUE, nullptr);
         n->signal_id = g_signal_connect(n->element, "new-sample", G_CALLBACK(on_new_sample), n);
       }
+    }
+    if (n->signal_id && !n->caps_pad) {
+      n->caps_pad = gst_element_get_static_pad(n->element, "sink");
+      if (n->caps_pad)
+        n->caps_id = g_signal_connect(n->caps_pad, "notify::caps", G_CALLBACK(on_caps), n);
+      n->format_stale = true;
     }
     if (!n->signal_id) {
       n->sinks.pop_back();

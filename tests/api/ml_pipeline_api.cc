@@ -139,6 +139,17 @@ TEST(MlPipeline, UnknownElementIsNamed) {
   EXPECT_NE(e.find("unknown element"), std::string::npos) << e;
 }
 
+TEST(MlPipeline, FailureToPauseCarriesTheElementError) {
+  ml_pipeline_h p = nullptr;
+  EXPECT_EQ(ml_pipeline_construct("filesrc name=fsrc location=/nonexistent/capi.bin ! fakesink",
+                                  nullptr, nullptr, &p),
+            ML_ERROR_STREAMS_PIPE);
+  EXPECT_EQ(p, nullptr);
+  std::string e = ml_error();
+  EXPECT_NE(e.find("cannot go to PAUSED: fsrc: "), std::string::npos) << e;
+  EXPECT_NE(e.find("/nonexistent/capi.bin"), std::string::npos) << e;
+}
+
 TEST(MlPipeline, NullArguments) {
   ml_pipeline_h p = nullptr;
   EXPECT_EQ(ml_pipeline_construct(nullptr, nullptr, nullptr, &p), ML_ERROR_INVALID_PARAMETER);

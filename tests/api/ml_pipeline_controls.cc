@@ -316,22 +316,31 @@ TEST(MlPipelineControls, Availability) {
   ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_CUSTOM_FILTER, ML_NNFW_HW_ANY, &av),
             ML_ERROR_NONE);
   EXPECT_TRUE(av);
-  ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_ANY, ML_NNFW_HW_CPU, &av), ML_ERROR_NONE);
+  ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_CUSTOM_FILTER, ML_NNFW_HW_AUTO, &av),
+            ML_ERROR_NONE);
   EXPECT_TRUE(av);
   ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_CUSTOM_FILTER, ML_NNFW_HW_GPU, &av),
             ML_ERROR_NONE);
-  EXPECT_FALSE(av);  // CPU-only back ends
-  ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_VIVANTE, ML_NNFW_HW_ANY, &av), ML_ERROR_NONE);
+  EXPECT_FALSE(av);  // no accelerator check in the back end: CPU only
+  ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_CUSTOM_FILTER, ML_NNFW_HW_NPU_SR, &av),
+            ML_ERROR_NONE);
   EXPECT_FALSE(av);
+  ASSERT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_VIVANTE, ML_NNFW_HW_ANY, &av), ML_ERROR_NONE);
+  EXPECT_FALSE(av);  // no such back end
   ASSERT_EQ(ml_check_nnfw_availability_full(ML_NNFW_TYPE_CUSTOM_FILTER, ML_NNFW_HW_AUTO, "x", &av),
             ML_ERROR_NONE);
   EXPECT_TRUE(av);
+  // As NNStreamer: ANY names no framework.
+  EXPECT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_ANY, ML_NNFW_HW_ANY, &av),
+            ML_ERROR_INVALID_PARAMETER);
+  EXPECT_NE(error().find("ML_NNFW_TYPE_ANY names no framework"), std::string::npos) << error();
   EXPECT_EQ(ml_check_nnfw_availability(static_cast<ml_nnfw_type_e>(999), ML_NNFW_HW_ANY, &av),
             ML_ERROR_INVALID_PARAMETER);
   EXPECT_NE(error().find("nnfw 999 is not an ml_nnfw_type_e value"), std::string::npos) << error();
-  EXPECT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_ANY, static_cast<ml_nnfw_hw_e>(0x9999), &av),
+  EXPECT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_CUSTOM_FILTER,
+                                       static_cast<ml_nnfw_hw_e>(0x9999), &av),
             ML_ERROR_INVALID_PARAMETER);
-  EXPECT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_ANY, ML_NNFW_HW_ANY, nullptr),
+  EXPECT_EQ(ml_check_nnfw_availability(ML_NNFW_TYPE_CUSTOM_FILTER, ML_NNFW_HW_ANY, nullptr),
             ML_ERROR_INVALID_PARAMETER);
 }
 
