@@ -77,8 +77,8 @@ Meta parse_meta(const std::string &text, const std::string &path) {
     for (std::size_t i = 0; i < m.tensor_count.size(); ++i) {
       if (m.tensor_count[i] > m.tensor_size.size() ||
           (i > 0 && m.tensor_count[i] < m.tensor_count[i - 1]))
-        bad(path, "\"tensor_count\"[" + std::to_string(i) + "] = " +
-                      std::to_string(m.tensor_count[i]) + " is out of order or past the " +
+        bad(path, "\"tensor_count\"[" + std::to_string(i) +
+                      "] = " + std::to_string(m.tensor_count[i]) + " is out of order or past the " +
                       std::to_string(m.tensor_size.size()) + " entries of \"tensor_size\"");
     }
   } else {
@@ -88,7 +88,7 @@ Meta parse_meta(const std::string &text, const std::string &path) {
 }
 
 std::string write_meta(const Meta &m) {
-  json o;
+  nlohmann::ordered_json o;  // NNStreamer's member order
   o["gst_caps"] = m.caps;
   o["total_samples"] = m.total_samples;
   if (m.per_sample()) {

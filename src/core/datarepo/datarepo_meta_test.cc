@@ -71,15 +71,16 @@ TEST(DatarepoMeta, PerSampleLayoutRoundTrips) {
 TEST(DatarepoMeta, RejectsBadMetaNamingTheMember) {
   EXPECT_NE(error_of([] { parse_meta("{", "a.json"); }).find("a.json: not valid JSON"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_meta(R"({"total_samples":1,"sample_size":4})", "a"); })
-                .find("gst_caps"),
+  EXPECT_NE(
+      error_of([] { parse_meta(R"({"total_samples":1,"sample_size":4})", "a"); }).find("gst_caps"),
+      std::string::npos);
+  EXPECT_NE(error_of([] {
+              parse_meta(R"({"gst_caps":"x","total_samples":-3,"sample_size":4})", "a");
+            }).find("total_samples"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_meta(R"({"gst_caps":"x","total_samples":-3,"sample_size":4})",
-                                     "a"); })
-                .find("total_samples"),
-            std::string::npos);
-  EXPECT_NE(error_of([] { parse_meta(R"({"gst_caps":"x","total_samples":2})", "a"); })
-                .find("sample_size"),
+  EXPECT_NE(error_of([] {
+              parse_meta(R"({"gst_caps":"x","total_samples":2})", "a");
+            }).find("sample_size"),
             std::string::npos);
   EXPECT_NE(error_of([] {
               parse_meta(R"({"gst_caps":"x","total_samples":2,"sample_offset":[0,5],
