@@ -71,10 +71,12 @@ TrainConfig read_config(const std::string &path) {
       c.batch_size = static_cast<int64_t>(num(1));
     } else if (k == "seed") {
       c.seed = static_cast<int64_t>(num(0));
+    } else if (k == "num_threads") {
+      c.num_threads = static_cast<int64_t>(num(0));
     } else {
       bad(path, "unknown key \"" + k +
                     "\" (known: model, loss, optimizer, learning_rate, momentum, weight_decay, "
-                    "batch_size, seed)");
+                    "batch_size, seed, num_threads)");
     }
   }
   if (c.model.empty()) bad(path, "no \"model\" (the TorchScript file to train)");
@@ -160,6 +162,9 @@ void TorchTrainer::flush(bool training) {
 
 bool TorchTrainer::push(const std::vector<const void *> &tensors) {
   if (finished()) return false;
+  // libtorch's thread count is per calling thread: set it in the thread that trains.
+  if (cfg_.num_threads > 0 && at::get_num_threads() != cfg_.num_threads)
+    at::set_num_threads(static_cast<int>(cfg_.num_threads));
   const bool training = in_epoch_ < num_training_;
   if (in_epoch_ == num_training_) flush(true);  // the last partial training batch
   std::size_t k = 0;

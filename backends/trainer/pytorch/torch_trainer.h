@@ -21,6 +21,7 @@ struct TrainConfig {
   double learning_rate = 0.01, momentum = 0.0, weight_decay = 0.0;
   int64_t batch_size = 1;
   int64_t seed = 0;
+  int64_t num_threads = 0;  // libtorch intra-op threads of the training thread; 0: leave
 };
 
 // Reads the model-config file: a JSON object (keys as TrainConfig; "model" relative to the file)

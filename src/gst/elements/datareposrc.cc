@@ -21,6 +21,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -72,6 +73,10 @@ struct Run {
   int rate_n = 0, rate_d = 1;
   uint64_t frames = 0;
   std::string location;
+  bool sequential = false;  // not shuffled: read ahead in chunks
+  uint64_t file_size = 0;
+  nns::gst::MemoryPtr chunk;  // the last chunk read
+  uint64_t chunk_offset = 0;
 };
 
 struct SrcPriv {
@@ -388,7 +393,7 @@ static GstCaps *src_get_caps(GstBaseSrc *bsrc, GstCaps *filter) {
 }
 
 // Reads `size` bytes at `offset` into a new memory; names the sample on failure.
-static GstMemory *read_at(const Run &r, uint32_t index, uint64_t offset, uint64_t size) {
+static GstMemory *read_direct(const Run &r, uint32_t index, uint64_t offset, uint64_t size) {
   GstMemory *mem = gst_allocator_alloc(nullptr, size, nullptr);
   nns::gst::MemoryPtr owned(mem);
   nns::gst::MemoryMap map(mem, GST_MAP_WRITE);
@@ -405,6 +410,22 @@ static GstMemory *read_at(const Run &r, uint32_t index, uint64_t offset, uint64_
     done += static_cast<uint64_t>(n);
   }
   return owned.release();
+}
+
+// Samples read in file order come out of one 256 KiB read shared by many samples (one syscall
+// for many samples); shuffled samples are read one by one.
+static GstMemory *read_at(Run &r, uint32_t index, uint64_t offset, uint64_t size) {
+  if (!r.sequential) return read_direct(r, index, offset, size);
+  if (!r.chunk || offset < r.chunk_offset ||
+      offset + size > r.chunk_offset + gst_memory_get_sizes(r.chunk.get(), nullptr, nullptr)) {
+    constexpr uint64_t kChunk = 256 * 1024;
+    uint64_t len = std::max(size, kChunk);
+    if (offset < r.file_size) len = std::max(size, std::min(len, r.file_size - offset));
+    r.chunk.reset(read_direct(r, index, offset, len));
+    r.chunk_offset = offset;
+  }
+  return gst_memory_share(r.chunk.get(), static_cast<gssize>(offset - r.chunk_offset),
+                          static_cast<gssize>(size));
 }
 
 static GstBuffer *read_sample(Run &r, uint32_t index) {

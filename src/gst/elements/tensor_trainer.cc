@@ -69,6 +69,9 @@ struct TrainerPriv {
   GstTensorTrainerEventNotifier notifier{};
   nns::TensorsConfig in_config;
   uint64_t epoch_samples = 0, total_samples = 0;
+  // Per-sample scratch, kept so the streaming path allocates nothing per buffer.
+  std::vector<GstMemory *> mems;
+  std::vector<GstMapInfo> maps;
 };
 
 enum {
@@ -332,15 +335,28 @@ static GstFlowReturn trainer_chain(GstPad *, GstObject *parent, GstBuffer *inbuf
       fail(ErrorKind::kStream, "sample " + std::to_string(p->total_samples) + " has " +
                                    std::to_string(n) + " tensors, expected num-inputs + " +
                                    "num-labels = " + std::to_string(want));
-    std::vector<nns::gst::MemoryPtr> mems;
-    std::vector<std::unique_ptr<nns::gst::MemoryMap>> maps;
     GstTensorMemory tensors[NNS_TENSOR_SIZE_LIMIT];
     nns::TensorsInfo sample_info;  // flexible: this sample's tensors, from their headers
+    p->mems.assign(n, nullptr);
+    p->maps.resize(n);
+    std::size_t mapped = 0;
+    struct Unmap {  // releases what was mapped, however the loop ends
+      TrainerPriv *p;
+      std::size_t *mapped;
+      ~Unmap() {
+        for (std::size_t i = 0; i < *mapped; ++i) gst_memory_unmap(p->mems[i], &p->maps[i]);
+        for (GstMemory *m : p->mems)
+          if (m) gst_memory_unref(m);
+      }
+    } unmap{p, &mapped};
     for (std::size_t i = 0; i < n; ++i) {
-      mems.emplace_back(nns::gst::buffer_get_tensor(inbuf, i));
-      maps.push_back(std::make_unique<nns::gst::MemoryMap>(mems.back().get(), GST_MAP_READ));
-      const uint8_t *data = maps.back()->data();
-      std::size_t size = maps.back()->size();
+      p->mems[i] = nns::gst::buffer_get_tensor(inbuf, i);
+      if (!p->mems[i] || !gst_memory_map(p->mems[i], &p->maps[i], GST_MAP_READ))
+        fail(ErrorKind::kStream, "cannot map tensor " + std::to_string(i) + " of sample " +
+                                     std::to_string(p->total_samples));
+      ++mapped;
+      const uint8_t *data = p->maps[i].data;
+      std::size_t size = p->maps[i].size;
       std::size_t expected;
       if (flexible) {
         nns::MetaHeader h = nns::parse_meta_header(data, size);
