@@ -35,6 +35,16 @@ for b in "$BUILD_DIR"/bench/*_bench; do
     failed=$((failed + 1))
   fi
 done
+# The Python package's Single.invoke overhead (python/bench/bench_single.py), when it is built.
+if [[ -f $BUILD_DIR/python/nnstreamer/__init__.py && ( -z $filter || python_single == *"$filter"* ) ]]; then
+  echo "[bench] ===== python_single ($(date -u +%FT%TZ), load $(cut -d' ' -f1-3 /proc/loadavg))"
+  if PYTHONPATH="$BUILD_DIR/python" NNSTREAMER_CONF="$BUILD_DIR/nnstreamer.ini" \
+    /usr/bin/python3 "$ROOT/python/bench/bench_single.py" "$BUILD_DIR" 2>&1 |
+    tee "$BUILD_DIR/bench-results/python_single.txt"; then ran=$((ran + 1)); else
+    echo "[bench] python_single FAILED" >&2
+    failed=$((failed + 1))
+  fi
+fi
 # The figures with targets, gathered from every result file of this run.
 if ((ran)); then
   echo "[bench] ===== summary (targets: pipeline/direct >= 0.97, mux/demux <= 2 us per buffer)"

@@ -13,9 +13,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* ml_nnfw_type_e and ml_nnfw_hw_e (ml_check_nnfw_availability) are there, as NNStreamer's. */
 #include "ml-api-common.h"
-/* ml_nnfw_type_e and ml_nnfw_hw_e (used by ml_check_nnfw_availability). */
-#include "nnstreamer-single.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -67,8 +66,7 @@ typedef void (*ml_pipeline_state_cb)(ml_pipeline_state_e state, void *user_data)
 typedef int (*ml_pipeline_if_custom_cb)(const ml_tensors_data_h data, const ml_tensors_info_h info,
                                         int *result, void *user_data);
 
-/* custom-easy filter body: read `in`, fill `out`; 0 = ok, 1 = drop this frame, < 0 = error.
- * (NNStreamer declares it in ml-api-common.h; an identical typedef is legal in C11/C++.) */
+/* custom-easy filter body: read `in`, fill `out`; 0 = ok, 1 = drop this frame, < 0 = error. */
 typedef int (*ml_custom_easy_invoke_cb)(const ml_tensors_data_h in, ml_tensors_data_h out,
                                         void *user_data);
 

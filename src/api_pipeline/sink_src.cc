@@ -453,8 +453,15 @@ NNS_CAPI int ml_pipeline_src_input_data(ml_pipeline_src_h src_handle, ml_tensors
                         "' expects " + std::to_string(want[i].byte_size()) + " bytes (" +
                         want[i].to_string() + ")");
   }
-  GstBuffer *buf = gst_buffer_new();
   const bool give = policy == ML_PIPELINE_BUF_POLICY_AUTO_FREE;
+  if (give)
+    for (const auto &b : d->buffers)
+      if (!b.get_deleter().owned)  // nns_ml_tensors_data_wrap: the caller's memory
+        return fail(ML_ERROR_INVALID_PARAMETER,
+                    std::string(F) +
+                        ": data wraps memory it does not own; it cannot be given away with "
+                        "ML_PIPELINE_BUF_POLICY_AUTO_FREE (use DO_NOT_FREE)");
+  GstBuffer *buf = gst_buffer_new();
   try {
     for (std::size_t i = 0; i < d->buffers.size(); ++i) {
       uint8_t *ptr = give ? d->buffers[i].release() : d->buffers[i].get();
