@@ -129,6 +129,18 @@ TEST(MlPipeline, ConstructStartStopDestroyWithStateCallback) {
   EXPECT_NE(std::string(ml_error()).find("not a live pipeline"), std::string::npos) << ml_error();
 }
 
+TEST(MlPipeline, ConstructEndsPausedWhenThePipelinePrerolls) {
+  ml_pipeline_h p = nullptr;
+  ASSERT_EQ(ml_pipeline_construct("videotestsrc num-buffers=3 ! video/x-raw,format=GRAY8,width=4,"
+                                  "height=4 ! tensor_converter ! tensor_sink name=sink",
+                                  nullptr, nullptr, &p),
+            ML_ERROR_NONE);
+  ml_pipeline_state_e s = ML_PIPELINE_STATE_UNKNOWN;
+  EXPECT_EQ(ml_pipeline_get_state(p, &s), ML_ERROR_NONE);
+  EXPECT_EQ(s, ML_PIPELINE_STATE_PAUSED);
+  EXPECT_EQ(ml_pipeline_destroy(p), ML_ERROR_NONE);
+}
+
 TEST(MlPipeline, UnknownElementIsNamed) {
   ml_pipeline_h p = reinterpret_cast<ml_pipeline_h>(0x1);
   EXPECT_EQ(ml_pipeline_construct("videotestsrc ! tensor_fitler ! fakesink", nullptr, nullptr, &p),
