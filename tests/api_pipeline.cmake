@@ -9,18 +9,27 @@ target_include_directories(ml_pipeline_api PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}
 target_compile_definitions(ml_pipeline_api PRIVATE NNS_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
                            NNS_BUILD_DIR="${CMAKE_BINARY_DIR}" NNS_GST_PLUGINS_DIR="${GST_PLUGINS_DIR}")
 target_link_libraries(ml_pipeline_api PRIVATE capi-nnstreamer GTest::gtest nns_warnings
-                      Threads::Threads)
+                      Threads::Threads PkgConfig::GST)
 add_dependencies(ml_pipeline_api nnstreamer)
 gtest_discover_tests(ml_pipeline_api DISCOVERY_TIMEOUT 60 PROPERTIES LABELS api TIMEOUT 120)
 
+# The system plugins the tests use, linked into one folder (GST_PLUGIN_SYSTEM_PATH of the tests;
+# ml_pipeline_main.cc makes the same links when run by hand from another tree).
+set(_capi_sys ${CMAKE_BINARY_DIR}/tests/capi-gst-plugins)
+file(MAKE_DIRECTORY ${_capi_sys})
+foreach(_p libgstcoreelements.so libgstapp.so libgstvideotestsrc.so libgstaudiotestsrc.so
+        libgstvideoconvertscale.so)
+  if(EXISTS ${GST_PLUGINS_DIR}/${_p} AND NOT EXISTS ${_capi_sys}/${_p})
+    file(CREATE_LINK ${GST_PLUGINS_DIR}/${_p} ${_capi_sys}/${_p} SYMBOLIC)
+  endif()
+endforeach()
+
 # nnstreamer.h compiled as C: the header is C, and a whole pipeline runs from C.
 add_executable(ml_pipeline_c api/ml_pipeline_c.c)
-target_link_libraries(ml_pipeline_c PRIVATE capi-nnstreamer nns_warnings)
+target_link_libraries(ml_pipeline_c PRIVATE capi-nnstreamer nns_warnings PkgConfig::GST)
 target_compile_definitions(ml_pipeline_c PRIVATE NNS_BUILD_DIR="${CMAKE_BINARY_DIR}")
-# Same environment as tests/api/ml_pipeline_main.cc (the links are made by ml_pipeline_api's
-# first run at build time, by gtest_discover_tests).
-add_dependencies(ml_pipeline_c ml_pipeline_api)
-set(_capi_env "GST_PLUGIN_SYSTEM_PATH=${CMAKE_BINARY_DIR}/tests/capi-gst-plugins"
+# Same environment as tests/api/ml_pipeline_main.cc.
+set(_capi_env "GST_PLUGIN_SYSTEM_PATH=${_capi_sys}"
     "GST_PLUGIN_PATH=${CMAKE_BINARY_DIR}/plugin" "GST_REGISTRY_FORK=no"
     "GST_REGISTRY=${CMAKE_BINARY_DIR}/tests/capi-registry-c.bin")
 add_dependencies(ml_pipeline_c nnstreamer)

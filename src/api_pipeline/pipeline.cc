@@ -67,7 +67,9 @@ GstBusSyncReply on_bus(GstBus *, GstMessage *msg, gpointer user) {
     default:
       break;
   }
-  // Nobody pops this bus: drop every message once seen.
+  // Nobody pops this bus: drop every message once seen (a sync handler that drops a message
+  // owns it and must unref it).
+  gst_message_unref(msg);
   return GST_BUS_DROP;
 }
 
@@ -156,6 +158,7 @@ void teardown(Pipeline *p) {
   }
   for (auto &[name, n] : p->nodes) {
     for (Handle *h : n->handles) delete h;  // sink handles already went with close_sinks()
+    for (Handle *h : n->retired) delete h;
     if (!n->custom_easy.empty()) custom_easy_ref(n->custom_easy, -1);
     if (!n->if_custom.empty()) if_custom_ref(n->if_custom, -1);
     gst_object_unref(n->element);
@@ -361,8 +364,15 @@ NNS_CAPI int ml_pipeline_construct(const char *pipeline_description, ml_pipeline
     teardown(p);
     return rc;
   }
-  // Let a quick preroll finish so properties and caps are ready, as NNStreamer does.
-  gst_element_get_state(top, nullptr, nullptr, 10 * GST_MSECOND);
+  // Let the preroll finish so properties and caps are ready: 10 ms as NNStreamer waits; a
+  // pipeline without appsrc prerolls by itself, so it gets up to 1 s more (the documented
+  // post-condition is PAUSED; a loaded machine can need more than 10 ms). An appsrc pipeline
+  // cannot preroll before the application pushes data, and a live one does not preroll.
+  if (gst_element_get_state(top, nullptr, nullptr, 10 * GST_MSECOND) == GST_STATE_CHANGE_ASYNC) {
+    bool has_appsrc = false;
+    for (auto &[name, n] : p->nodes) has_appsrc = has_appsrc || n->kind == NodeKind::kAppSrc;
+    if (!has_appsrc) gst_element_get_state(top, nullptr, nullptr, GST_SECOND);
+  }
   {
     std::lock_guard lk(g_mu);
     g_pipes.insert(p);

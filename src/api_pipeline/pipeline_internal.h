@@ -9,7 +9,9 @@
 //   synchronously (state changes) may call the API again.
 // - Node::cb_mu (recursive) is held while sink callbacks run. Unregister and destroy take it,
 //   so they wait for a running callback, and no callback starts after they return. A callback
-//   may register or unregister sinks of its own node (same thread, recursive lock).
+//   may register or unregister sinks of its own node (same thread, recursive lock). Neither
+//   holds g_mu while it waits, so a callback may call any API function meanwhile.
+// - Src event callbacks run with a per-handle counter; release waits for it to drop to zero.
 // - Pipeline::state_mu (recursive) is held while the state callback runs; destroy takes it.
 #pragma once
 
@@ -62,11 +64,15 @@ struct Handle {
   ml_pipeline_sink_cb sink_cb = nullptr;
   void *sink_user = nullptr;
   bool dead = false;  // unregistered from inside its own callback; freed by the dispatcher
-  // Src event callbacks (guarded by src_mu; `src_alive` false once released).
-  std::recursive_mutex src_mu;
+  // Src event callbacks (guarded by src_mu, never held while a callback runs; `src_alive` false
+  // once released). A released src handle is kept (Node::retired) until the pipeline is freed,
+  // since appsrc may be about to call it.
+  std::mutex src_mu;
+  std::condition_variable src_cv;
   ml_pipeline_src_callbacks_s src_cb{};
   void *src_user = nullptr;
   bool src_alive = true;
+  int src_running = 0;
 };
 
 struct Node {
@@ -76,6 +82,7 @@ struct Node {
   std::string factory;  // "tensor_sink", ...
   NodeKind kind = NodeKind::kCommon;
   std::vector<Handle *> handles;  // every live handle on this node (g_mu)
+  std::vector<Handle *> retired;  // released src handles, freed with the pipeline (g_mu)
 
   // Sink dispatch (cb_mu).
   std::recursive_mutex cb_mu;
@@ -83,6 +90,7 @@ struct Node {
   gulong signal_id = 0;
   std::thread::id dispatch_thread;
   bool dispatching = false;
+  bool closed = false;  // close_sinks() ran: no more sinks
   bool have_format = false;
   std::atomic<bool> format_stale{true};  // set by the sink pad's notify::caps
   GstPad *caps_pad = nullptr;            // owned reference while connected

@@ -197,22 +197,45 @@ int src_format(Node *n, TensorsInfo *info, bool *media, const char *func) {
   return rc;
 }
 
-void src_need_data(GstAppSrc *, guint length, gpointer user) {
+thread_local Handle *t_src_cb = nullptr;  // src handle whose event callback runs on this thread
+
+// Runs `call(callbacks, user)` unless the handle was released; counted so release can wait.
+template <typename F>
+void src_event(gpointer user, F call) {
   auto *h = static_cast<Handle *>(user);
+  ml_pipeline_src_callbacks_s cbs;
+  void *data;
+  {
+    std::lock_guard lk(h->src_mu);
+    if (!h->src_alive) return;
+    cbs = h->src_cb;
+    data = h->src_user;
+    ++h->src_running;
+  }
+  Handle *prev = t_src_cb;
+  t_src_cb = h;
+  call(cbs, data, h);
+  t_src_cb = prev;
   std::lock_guard lk(h->src_mu);
-  if (h->src_alive && h->src_cb.need_data) h->src_cb.need_data(h, length, h->src_user);
+  if (--h->src_running == 0) h->src_cv.notify_all();
+}
+
+void src_need_data(GstAppSrc *, guint length, gpointer user) {
+  src_event(user, [length](const ml_pipeline_src_callbacks_s &c, void *d, Handle *h) {
+    if (c.need_data) c.need_data(h, length, d);
+  });
 }
 
 void src_enough_data(GstAppSrc *, gpointer user) {
-  auto *h = static_cast<Handle *>(user);
-  std::lock_guard lk(h->src_mu);
-  if (h->src_alive && h->src_cb.enough_data) h->src_cb.enough_data(h, h->src_user);
+  src_event(user, [](const ml_pipeline_src_callbacks_s &c, void *d, Handle *h) {
+    if (c.enough_data) c.enough_data(h, d);
+  });
 }
 
 gboolean src_seek_data(GstAppSrc *, guint64 offset, gpointer user) {
-  auto *h = static_cast<Handle *>(user);
-  std::lock_guard lk(h->src_mu);
-  if (h->src_alive && h->src_cb.seek_data) h->src_cb.seek_data(h, offset, h->src_user);
+  src_event(user, [offset](const ml_pipeline_src_callbacks_s &c, void *d, Handle *h) {
+    if (c.seek_data) c.seek_data(h, offset, d);
+  });
   return TRUE;
 }
 
@@ -225,6 +248,7 @@ Pipeline *dispatching_pipeline() {
 void close_sinks(Node *n) {
   if (n->kind != NodeKind::kTensorSink && n->kind != NodeKind::kAppSink) return;
   std::lock_guard lk(n->cb_mu);  // waits for a running callback
+  n->closed = true;
   if (n->signal_id) {
     g_signal_handler_disconnect(n->element, n->signal_id);
     n->signal_id = 0;
@@ -242,12 +266,18 @@ void close_sinks(Node *n) {
 }
 
 void close_src(Handle *h) {
-  std::lock_guard lk(h->src_mu);  // waits for a running event callback
-  if (h->src_alive && (h->src_cb.need_data || h->src_cb.enough_data || h->src_cb.seek_data)) {
+  std::unique_lock lk(h->src_mu);
+  bool had = h->src_cb.need_data || h->src_cb.enough_data || h->src_cb.seek_data;
+  h->src_alive = false;
+  lk.unlock();
+  if (had) {
     GstAppSrcCallbacks none{};
     gst_app_src_set_callbacks(GST_APP_SRC(h->node->element), &none, nullptr, nullptr);
   }
-  h->src_alive = false;
+  lk.lock();
+  // Wait for a callback running on another thread (not for one that called this itself).
+  int own = t_src_cb == h ? 1 : 0;
+  h->src_cv.wait(lk, [&] { return h->src_running <= own; });
 }
 
 }  // namespace nns::capi
@@ -264,7 +294,7 @@ NNS_CAPI int ml_pipeline_sink_register(ml_pipeline_h pipe, const char *sink_name
   *sink_handle = nullptr;
   if (!sink_name) return fail(ML_ERROR_INVALID_PARAMETER, std::string(F) + ": sink_name is NULL");
   if (!cb) return fail(ML_ERROR_INVALID_PARAMETER, std::string(F) + ": cb is NULL");
-  std::lock_guard lk(registry_lock());
+  std::unique_lock lk(registry_lock());
   Pipeline *p = live_pipeline(pipe, F);
   if (!p) return ML_ERROR_INVALID_PARAMETER;
   Node *n = find_node(p, sink_name);
@@ -285,54 +315,54 @@ NNS_CAPI int ml_pipeline_sink_register(ml_pipeline_h pipe, const char *sink_name
   h->node = n;
   h->sink_cb = cb;
   h->sink_user = user_data;
-  {
-    std::lock_guard cl(n->cb_mu);
-    n->sinks.push_back(h);
-    if (!n->signal_id) {
-      if (n->kind == NodeKind::kTensorSink) {
-        g_object_set(n->element, "emit-signal", TRUE, nullptr);
-        n->signal_id = g_signal_connect(n->element, "new-data", G_CALLBACK(on_new_data), n);
-      } else {
-        g_object_set(n->element, "emit-signals", TRUE, nullptr);
-        n->signal_id = g_signal_connect(n->element, "new-sample", G_CALLBACK(on_new_sample), n);
-      }
-    }
-    if (n->signal_id && !n->caps_pad) {
-      n->caps_pad = gst_element_get_static_pad(n->element, "sink");
-      if (n->caps_pad)
-        n->caps_id = g_signal_connect(n->caps_pad, "notify::caps", G_CALLBACK(on_caps), n);
-      n->format_stale = true;
-    }
-    if (!n->signal_id) {
-      n->sinks.pop_back();
-      delete h;
-      return fail(ML_ERROR_STREAMS_PIPE,
-                  std::string(F) + ": cannot connect to the signal of '" + sink_name + "'");
+  add_handle(h);  // from here on the pipeline's teardown frees it if it is not handed out
+  Use use(p);
+  lk.unlock();  // a running callback (holding cb_mu) may call the API
+  std::lock_guard cl(n->cb_mu);
+  if (n->closed)
+    return fail(ML_ERROR_INVALID_PARAMETER,
+                std::string(F) + ": " + p->describe() + " is being destroyed");
+  n->sinks.push_back(h);
+  if (!n->signal_id) {
+    if (n->kind == NodeKind::kTensorSink) {
+      g_object_set(n->element, "emit-signal", TRUE, nullptr);
+      n->signal_id = g_signal_connect(n->element, "new-data", G_CALLBACK(on_new_data), n);
+    } else {
+      g_object_set(n->element, "emit-signals", TRUE, nullptr);
+      n->signal_id = g_signal_connect(n->element, "new-sample", G_CALLBACK(on_new_sample), n);
     }
   }
-  add_handle(h);
+  if (n->signal_id && !n->caps_pad) {
+    n->caps_pad = gst_element_get_static_pad(n->element, "sink");
+    if (n->caps_pad)
+      n->caps_id = g_signal_connect(n->caps_pad, "notify::caps", G_CALLBACK(on_caps), n);
+    n->format_stale = true;
+  }
   *sink_handle = h;
   return ML_ERROR_NONE;
 }
 
 NNS_CAPI int ml_pipeline_sink_unregister(ml_pipeline_sink_h sink_handle) {
-  std::lock_guard lk(registry_lock());
+  std::unique_lock lk(registry_lock());
   Handle *h =
       live_handle(sink_handle, HandleKind::kSink, "ml_pipeline_sink_unregister", "sink_handle");
   if (!h) return ML_ERROR_INVALID_PARAMETER;
   Node *n = h->node;
   remove_handle(h);
+  Use use(h->pipe);
+  lk.unlock();
   std::lock_guard cl(n->cb_mu);  // waits for a callback running on another thread
   if (n->dispatching && n->dispatch_thread == std::this_thread::get_id()) {
     h->dead = true;  // called from a callback of this node: the dispatcher frees it
     return ML_ERROR_NONE;
   }
+  // Not there when a concurrent destroy's close_sinks() already freed it.
   for (auto it = n->sinks.begin(); it != n->sinks.end(); ++it)
     if (*it == h) {
       n->sinks.erase(it);
+      delete h;
       break;
     }
-  delete h;
   return ML_ERROR_NONE;
 }
 
@@ -366,13 +396,15 @@ NNS_CAPI int ml_pipeline_src_get_handle(ml_pipeline_h pipe, const char *src_name
 }
 
 NNS_CAPI int ml_pipeline_src_release_handle(ml_pipeline_src_h src_handle) {
-  std::lock_guard lk(registry_lock());
+  std::unique_lock lk(registry_lock());
   Handle *h =
       live_handle(src_handle, HandleKind::kSrc, "ml_pipeline_src_release_handle", "src_handle");
   if (!h) return ML_ERROR_INVALID_PARAMETER;
   remove_handle(h);
-  close_src(h);
-  delete h;
+  h->node->retired.push_back(h);  // appsrc may still hold it as callback data
+  Use use(h->pipe);
+  lk.unlock();
+  close_src(h);  // waits for a running event callback of it
   return ML_ERROR_NONE;
 }
 

@@ -129,6 +129,18 @@ TEST(MlPipeline, ConstructStartStopDestroyWithStateCallback) {
   EXPECT_NE(std::string(ml_error()).find("not a live pipeline"), std::string::npos) << ml_error();
 }
 
+TEST(MlPipeline, ConstructEndsPausedWhenThePipelinePrerolls) {
+  ml_pipeline_h p = nullptr;
+  ASSERT_EQ(ml_pipeline_construct("videotestsrc num-buffers=3 ! video/x-raw,format=GRAY8,width=4,"
+                                  "height=4 ! tensor_converter ! tensor_sink name=sink",
+                                  nullptr, nullptr, &p),
+            ML_ERROR_NONE);
+  ml_pipeline_state_e s = ML_PIPELINE_STATE_UNKNOWN;
+  EXPECT_EQ(ml_pipeline_get_state(p, &s), ML_ERROR_NONE);
+  EXPECT_EQ(s, ML_PIPELINE_STATE_PAUSED);
+  EXPECT_EQ(ml_pipeline_destroy(p), ML_ERROR_NONE);
+}
+
 TEST(MlPipeline, UnknownElementIsNamed) {
   ml_pipeline_h p = reinterpret_cast<ml_pipeline_h>(0x1);
   EXPECT_EQ(ml_pipeline_construct("videotestsrc ! tensor_fitler ! fakesink", nullptr, nullptr, &p),
@@ -407,4 +419,49 @@ TEST(MlPipeline, CustomEasyArguments) {
   EXPECT_EQ(ml_pipeline_custom_easy_filter_unregister(nullptr), ML_ERROR_INVALID_PARAMETER);
   ml_tensors_info_destroy(ok);
   ml_tensors_info_destroy(empty);
+}
+
+TEST(MlPipeline, FlexibleTensorsCarryTheirOwnInfo) {
+  // appsrc with flexible caps: input_data adds each tensor's header; the sink callback gets the
+  // payload and the info from the headers, so frames of different shapes pass.
+  ml_pipeline_h p = nullptr;
+  ASSERT_EQ(
+      ml_pipeline_construct("appsrc name=src caps=other/tensors,format=flexible,framerate=0/1 "
+                            "! tensor_sink name=sink async=false",
+                            nullptr, nullptr, &p),
+      ML_ERROR_NONE)
+      << ml_error();
+  Collector c;
+  ml_pipeline_sink_h s = nullptr;
+  ml_pipeline_src_h src = nullptr;
+  ASSERT_EQ(ml_pipeline_sink_register(p, "sink", Collector::cb, &c, &s), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_src_get_handle(p, "src", &src), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_start(p), ML_ERROR_NONE);
+  ml_tensors_info_h a = make_info({{ML_TENSOR_TYPE_INT16, {3, 2}}});
+  ml_tensors_info_h b = make_info({{ML_TENSOR_TYPE_FLOAT32, {2}}, {ML_TENSOR_TYPE_UINT8, {5}}});
+  ASSERT_EQ(ml_pipeline_src_input_data(src, make_data(a, {Bytes(12, 7)}),
+                                       ML_PIPELINE_BUF_POLICY_AUTO_FREE),
+            ML_ERROR_NONE)
+      << ml_error();
+  ASSERT_EQ(
+      ml_pipeline_src_input_data(src, make_data(b, {f32_bytes({1.5f, -2}), Bytes{1, 2, 3, 4, 5}}),
+                                 ML_PIPELINE_BUF_POLICY_AUTO_FREE),
+      ML_ERROR_NONE)
+      << ml_error();
+  ASSERT_TRUE(c.wait_for(2));
+  {
+    std::lock_guard lk(c.m);
+    ASSERT_EQ(c.frames[0].tensors.size(), 1u);
+    EXPECT_EQ(c.frames[0].types[0], ML_TENSOR_TYPE_INT16);
+    EXPECT_EQ(c.frames[0].dims[0], (std::vector<unsigned>{3, 2, 1, 1}));
+    EXPECT_EQ(c.frames[0].tensors[0], Bytes(12, 7));
+    ASSERT_EQ(c.frames[1].tensors.size(), 2u);
+    EXPECT_EQ(c.frames[1].types[0], ML_TENSOR_TYPE_FLOAT32);
+    EXPECT_EQ(c.frames[1].types[1], ML_TENSOR_TYPE_UINT8);
+    EXPECT_EQ(as_f32(c.frames[1].tensors[0]), (std::vector<float>{1.5f, -2}));
+    EXPECT_EQ(c.frames[1].tensors[1], (Bytes{1, 2, 3, 4, 5}));
+  }
+  ml_tensors_info_destroy(a);
+  ml_tensors_info_destroy(b);
+  EXPECT_EQ(ml_pipeline_destroy(p), ML_ERROR_NONE);
 }

@@ -10,6 +10,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <gst/gst.h>
+
 #include "nnstreamer.h"
 
 static int passed, failed;
@@ -58,6 +60,28 @@ static int wait_received(int n) {
     nanosleep(&ts, NULL);
   }
   return 0;
+}
+
+static int thread_count(void) {
+  char line[256];
+  int n = -1;
+  FILE *f = fopen("/proc/self/status", "r");
+  if (!f) return -1;
+  while (fgets(line, sizeof line, f))
+    if (strncmp(line, "Threads:", 8) == 0) n = atoi(line + 8);
+  fclose(f);
+  return n;
+}
+
+/* As tests/api/ml_pipeline_main.cc: end GStreamer and wait for GLib's idle pool threads. */
+static void end_gstreamer(void) {
+  int i;
+  gst_deinit();
+  g_thread_pool_set_max_unused_threads(0);
+  for (i = 0; i < 300 && thread_count() > 1; ++i) {
+    g_thread_pool_stop_unused_threads();
+    g_usleep(10000);
+  }
 }
 
 int main(void) {
@@ -119,6 +143,7 @@ int main(void) {
   CHECK(ml_pipeline_destroy(pipe) == ML_ERROR_NONE);
   CHECK(ml_pipeline_custom_easy_filter_unregister(custom) == ML_ERROR_NONE);
   CHECK(ml_tensors_info_destroy(info) == ML_ERROR_NONE);
+  end_gstreamer();
   printf("%d passed, %d failed\n", passed, failed);
   return failed ? 1 : 0;
 }

@@ -215,3 +215,106 @@ TEST(MlPipelineThreads, StateCallbackOnChangeAndErrorPerThread) {
   });
   EXPECT_EQ(playing.load(), 1);
 }
+
+namespace {
+
+// Sink callback that calls the API (pushes into another branch's appsrc) while it runs.
+struct Forwarder {
+  ml_pipeline_src_h src = nullptr;
+  ml_tensors_info_h info = nullptr;
+  std::atomic<bool> inside{false};
+  std::atomic<int> calls{0}, push_errors{0};
+  static void cb(const ml_tensors_data_h, const ml_tensors_info_h, void *u) {
+    auto *f = static_cast<Forwarder *>(u);
+    f->inside = true;
+    ++f->calls;
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    ml_tensors_data_h d = nullptr;
+    ml_tensors_data_create(f->info, &d);
+    if (ml_pipeline_src_input_data(f->src, d, ML_PIPELINE_BUF_POLICY_AUTO_FREE) != ML_ERROR_NONE) {
+      ml_tensors_data_destroy(d);
+      ++f->push_errors;
+    }
+    f->inside = false;
+  }
+};
+
+}  // namespace
+
+TEST(MlPipelineThreads, UnregisterAndReleaseWhileCallbacksCallTheApi) {
+  std::string d = std::string(kLive) + " appsrc name=src caps=" + tensor_caps("2:1:1:1", "uint8") +
+                  " ! tensor_sink name=out async=false";
+  ml_pipeline_h p = nullptr;
+  ASSERT_EQ(ml_pipeline_construct(d.c_str(), nullptr, nullptr, &p), ML_ERROR_NONE) << ml_error();
+  Forwarder f;
+  f.info = make_info({{ML_TENSOR_TYPE_UINT8, {2}}});
+  Collector out;
+  ml_pipeline_sink_h hs = nullptr, ho = nullptr;
+  ASSERT_EQ(ml_pipeline_src_get_handle(p, "src", &f.src), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_sink_register(p, "out", Collector::cb, &out, &ho), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_sink_register(p, "sink", Forwarder::cb, &f, &hs), ML_ERROR_NONE);
+  // need_data also calls the API (a state query) from the appsrc thread.
+  static std::atomic<int> need{0};
+  need = 0;
+  ml_pipeline_src_callbacks_s cbs{};
+  cbs.need_data = [](ml_pipeline_src_h, unsigned int, void *u) {
+    ml_pipeline_state_e s;
+    ml_pipeline_get_state(u, &s);
+    ++need;
+  };
+  ASSERT_EQ(ml_pipeline_src_set_event_cb(f.src, &cbs, p), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_start(p), ML_ERROR_NONE);
+  ASSERT_TRUE(wait_until([&] { return f.calls.load() >= 2 && f.inside.load(); }));
+  ASSERT_TRUE(out.wait_for(1));
+  finish_within(10, "unregister while the callback pushes into an appsrc",
+                [&] { EXPECT_EQ(ml_pipeline_sink_unregister(hs), ML_ERROR_NONE); });
+  EXPECT_FALSE(f.inside.load());
+  finish_within(10, "src release while need-data callbacks call the API",
+                [&] { EXPECT_EQ(ml_pipeline_src_release_handle(f.src), ML_ERROR_NONE); });
+  int n = need.load();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(need.load(), n);  // no event callback after release returned
+  EXPECT_EQ(f.push_errors.load(), 0);
+  finish_within(10, "ml_pipeline_destroy",
+                [&] { EXPECT_EQ(ml_pipeline_destroy(p), ML_ERROR_NONE); });
+  ml_tensors_info_destroy(f.info);
+}
+
+TEST(MlPipelineThreads, DestroyUnblocksAPushWaitingOnAFullAppsrc) {
+  // block=true max-buffers=1 and a slow sink: the pushing thread waits inside
+  // ml_pipeline_src_input_data when destroy comes; destroy ends it and waits for it.
+  std::string d =
+      "appsrc name=src block=true max-buffers=1 caps=" + tensor_caps("4:1:1:1", "uint8") +
+      " ! tensor_sink name=sink async=false";
+  ml_pipeline_h p = nullptr;
+  ASSERT_EQ(ml_pipeline_construct(d.c_str(), nullptr, nullptr, &p), ML_ERROR_NONE) << ml_error();
+  Slow s;
+  s.ms = 200;
+  ml_pipeline_sink_h h = nullptr;
+  ml_pipeline_src_h src = nullptr;
+  ASSERT_EQ(ml_pipeline_sink_register(p, "sink", Slow::cb, &s, &h), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_src_get_handle(p, "src", &src), ML_ERROR_NONE);
+  ASSERT_EQ(ml_pipeline_start(p), ML_ERROR_NONE);
+  ml_tensors_info_h info = make_info({{ML_TENSOR_TYPE_UINT8, {4}}});
+  std::atomic<int> pushed{0}, last_rc{0};
+  std::thread pusher([&] {
+    for (int i = 0; i < 20; ++i) {
+      ml_tensors_data_h dh = make_data(info, {{1, 2, 3, 4}});
+      int rc = ml_pipeline_src_input_data(src, dh, ML_PIPELINE_BUF_POLICY_AUTO_FREE);
+      last_rc = rc;
+      // Refused before the push (the handle died with the pipeline): the data is still ours.
+      // Refused by the appsrc (flushing): it was taken, as with a successful push.
+      if (rc == ML_ERROR_INVALID_PARAMETER) ml_tensors_data_destroy(dh);
+      if (rc != ML_ERROR_NONE) break;  // the pipeline is going away
+      ++pushed;
+    }
+  });
+  ASSERT_TRUE(wait_until([&] { return s.inside.load() && pushed.load() >= 2; }));
+  finish_within(10, "destroy while a push waits on a full appsrc", [&] {
+    EXPECT_EQ(ml_pipeline_destroy(p), ML_ERROR_NONE);
+    pusher.join();
+  });
+  EXPECT_LT(pushed.load(), 20);
+  EXPECT_NE(last_rc.load(), ML_ERROR_NONE);  // the next push after destroy is refused
+  ml_tensors_info_destroy(info);
+}
