@@ -7,8 +7,9 @@ Usage: /usr/bin/python3 examples/paper/make_inputs.py <folder> <E1 frames> <E2 s
   e1.rgb     224x224 RGB frames             e3.rgb   160x120 RGB frames
   e4.rgb     640x360 RGB frames             e2.rgb   64x64 RGB frames at 30 fps
   e2.s16     16 kHz mono signed 16-bit PCM  e2.imu   6 float32 channels at 100 Hz
-Video frames are a dark noisy background with one or two bright discs moving across it (the
-"faces"/"objects" the detectors of make_models.py react to). Raw files are what filesrc +
+Video frames are a dark noisy background with two bright discs moving across it (the
+"faces"/"objects" the detectors of make_models.py react to); in e3.rgb the discs are absent
+from 4 frames in every 16 (frames without a face). Raw files are what filesrc +
 rawvideoparse/rawaudioparse read in the pipelines and what the Control programs read by hand.
 """
 
@@ -18,7 +19,8 @@ import sys
 import numpy as np
 
 
-def clip(path, frames, w, h, seed):
+def clip(path, frames, w, h, seed, gaps=False):
+    """gaps: no disc in frames 12..15 of every 16 (E3: frames without a face)."""
     rng = np.random.default_rng(seed)
     yy, xx = np.mgrid[0:h, 0:w]
     base = rng.integers(0, 60, size=(h, w, 3), dtype=np.uint8)
@@ -27,6 +29,9 @@ def clip(path, frames, w, h, seed):
         for i in range(frames):
             img = base.copy()
             t = i / 30.0
+            if gaps and i % 16 >= 12:
+                f.write(img.tobytes())
+                continue
             for k, (sx, sy, col) in enumerate([(0.23, 0.17, (250, 240, 230)),
                                               (-0.13, 0.29, (230, 250, 200))]):
                 cx = (0.5 + 0.4 * np.sin(2 * np.pi * sx * t + k)) * w
@@ -43,7 +48,7 @@ def main():
     p = lambda name: os.path.join(out, name)  # noqa: E731
     clip(p("e1.rgb"), n1, 224, 224, 1)
     clip(p("e2.rgb"), 30 * secs2, 64, 64, 2)
-    clip(p("e3.rgb"), n3, 160, 120, 3)
+    clip(p("e3.rgb"), n3, 160, 120, 3, gaps=True)
     clip(p("e4.rgb"), n4, 640, 360, 4)
     rng = np.random.default_rng(5)
     t = np.arange(16000 * secs2) / 16000.0

@@ -8,7 +8,8 @@
       own bilinear resize differ by rounding: max 0.1, mean 0.01). Exit 1 on any difference.
   report.py plot <results.jsonl> <out folder>
       e1.png .. e4.png (matplotlib) and tables.md from the JSON lines of nns-paper; batch
-      figures are medians over repeated runs. Exit 1 when a run lacks its figures or a
+      figures are medians over repeated runs. With <out>/profile/<tag>.trace.json (nnsprofile
+      tracer files of profiled runs) also per-element tables and E3's per-stage invoke times. Exit 1 when a run lacks its figures or a
       throughput is not positive.
 """
 
@@ -167,7 +168,8 @@ def e2(runs, plt, out, md):
 
 
 def e3(runs, plt, out, md):
-    fig, axs = plt.subplots(1, 2, figsize=(10, 3.6))
+    tr = trace(out, "e3")
+    fig, axs = plt.subplots(1, 3 if tr else 2, figsize=(14 if tr else 10, 3.6))
     batch = {m: pick(runs, "e3", m, live=False) for m in ("control", "nns")}
     live = {m: pick(runs, "e3", m, live=True) for m in ("control", "nns")}
     lat = live if live["nns"] else batch
@@ -177,6 +179,14 @@ def e3(runs, plt, out, md):
     stages = ["overall", "pnet", "rnet", "onet"]
     bars(axs[1], stages, [(n, [med(lat[m], None, s, "mean") for s in stages]) for n, m in modes],
          "E3 latency (%s)" % ("5 fps paced input" if live["nns"] else "batch"), "ms (mean)")
+    if tr:  # per-stage model time: tracer invoke times vs the Control's stage times (batch)
+        inv = invoke_ms(tr)
+        ours = [sum(inv.get("p%d" % i, 0) for i in range(3)), inv.get("rnet", 0),
+                inv.get("onet", 0)]
+        ctl = [med(batch["control"], None, s, "mean") for s in ("pnet", "rnet", "onet")]
+        bars(axs[2], ["P-Net (3 scales)", "R-Net", "O-Net"],
+             [("Control stage (batch)", ctl), ("NNStreamer-cpp invoke (nnsprofile)", ours)],
+             "E3 per-stage time", "ms per frame")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "e3.png"), dpi=80)
     md.append("### E3\n\n| row | Control | NNStreamer-cpp |\n|---|---|---|")
@@ -189,6 +199,11 @@ def e3(runs, plt, out, md):
                                                       for _, m in modes))
     md.append("| peak RSS MiB | %.1f | %.1f |" % tuple(med(batch[m], "rss_peak_mib")
                                                       for _, m in modes))
+    faces = [med(batch[m], "face_frames") for _, m in modes]
+    frames = [med(batch[m], "frames") for _, m in modes]
+    if faces[0] != faces[1] or not 0 < faces[1] < frames[1]:
+        raise SystemExit("plot: E3 frames with a face: Control %s, pipeline %s of %s (expected "
+                         "equal, some but not all)" % (faces[0], faces[1], frames[1]))
     md.append("| frames with a face / frames | %d / %d | %d / %d |" % (
         med(batch["control"], "face_frames"), med(batch["control"], "frames"),
         med(batch["nns"], "face_frames"), med(batch["nns"], "frames")))
@@ -226,6 +241,48 @@ def e4(runs, plt, out, md):
     fig.savefig(os.path.join(out, "e4.png"), dpi=80)
 
 
+def trace(out, tag):
+    """The nnsprofile tracer file of a profiled run (docs/profiler.md), or None."""
+    p = os.path.join(out, "profile", tag + ".trace.json")
+    return json.load(open(p)) if os.path.exists(p) else None
+
+
+def invoke_ms(tr):
+    """tensor_filter name -> mean invoke time in ms, from a tracer file."""
+    return {e["name"]: e["invoke_ns"] / e["invokes"] / 1e6
+            for e in tr["elements"] if e.get("invokes")}
+
+
+def profiles(out, md):
+    tags = [t for t in ("e1", "e2", "e3", "e4-320") if trace(out, t)]
+    if not tags:
+        return
+    md.append("### Where the pipelines spend their time (nnsprofile tracer, nns-profile)\n")
+    md.append("Separate runs under `GST_TRACERS=nnsprofile`; own time is wall time inside an "
+              "element's chain function (an element that blocks waiting for a partner buffer, "
+              "such as tensor_crop or an aggregating mux, counts the wait).\n")
+    for t in tags:
+        tr = trace(out, t)
+        els = sorted((e for e in tr["elements"] if e.get("spans") and e["kind"] != "queue"),
+                     key=lambda e: -e["self_ns"])
+        total = sum(e["self_ns"] for e in els) or 1
+        txt = os.path.join(out, "profile", t + ".txt")
+        bott = [ln.strip() for ln in open(txt) if ln.startswith("bottleneck")] \
+            if os.path.exists(txt) else []
+        md.append("**%s** %s\n" % (t, bott[0] if bott else ""))
+        md.append("| element | factory | buffers | own time per buffer (ms) | share | "
+                  "invoke (ms) |\n|---|---|---|---|---|---|")
+        inv = invoke_ms(tr)
+        for e in els[:8]:
+            md.append("| %s | %s | %d | %.3f | %.1f%% | %s |" % (
+                e["name"], e["factory"], e["spans"], e["self_ns"] / e["spans"] / 1e6,
+                100.0 * e["self_ns"] / total,
+                "%.3f" % inv[e["name"]] if e["name"] in inv else "-"))
+        cpu = sum(th.get("cpu_ns", 0) for th in tr.get("threads", [])) / 1e9
+        md.append("\nstreaming threads: %d, their CPU time %.2f s\n"
+                  % (len(tr.get("threads", [])), cpu))
+
+
 def plot(path, out):
     import matplotlib
     matplotlib.use("Agg")
@@ -235,6 +292,7 @@ def plot(path, out):
     for f in (e1, e2, e3, e4):
         f(runs, plt, out, md)
         plt.close("all")
+    profiles(out, md)
     with open(os.path.join(out, "tables.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     for e in ("e1", "e2", "e3", "e4"):

@@ -41,7 +41,7 @@ $PY -c "import matplotlib, numpy" 2>/dev/null ||
 nns_enter_build_env
 
 # Input lengths: E1 frames, E2 seconds, E3 frames, E4 frames.
-if ((smoke)); then lens=(12 2 12 8); else lens=(300 20 300 150); fi
+if ((smoke)); then lens=(12 2 16 8); else lens=(300 20 300 150); fi
 rm -rf "$OUT"
 mkdir -p "$OUT/inputs" "$OUT/dumps"
 RES=$OUT/results.jsonl
@@ -78,7 +78,7 @@ $PY "$HERE/report.py" check "$OUT/dumps" || nns_die 1 "pipeline and Control outp
 #    at 30 fps once.
 if ((!smoke)); then
   for c in fast mid slow fast,mid,slow; do both e1 "$c" --live; done
-  for i in 1 2 3; do both e1 fast,mid,slow; done
+  for i in 1 2 3; do both e1 fast,mid,slow --frames 100; done
   both e2 "" --live
   for i in 1 2 3; do both e2 ""; done
   for i in 1 2 3; do both e3 ""; done
@@ -89,10 +89,37 @@ if ((!smoke)); then
   done
 fi
 
+# 3. Where the pipelines spend their time: separate runs under the nnsprofile tracer
+#    (docs/profiler.md), reported by nns-profile (text table, HTML, JSON) and report.py.
+#    Kept apart from the measurements above so the tracer's own cost does not enter them.
+profile() {
+  local tag=$1
+  shift
+  mkdir -p "$OUT/profile"
+  echo "$NNS_TAG: profile $tag" >&2
+  GST_TRACERS="nnsprofile(file=$OUT/profile/$tag.trace.json,interval=0)" \
+    "$BIN" --mode nns --models "$MODELS" --inputs "$OUT/inputs" "$@" >/dev/null ||
+    nns_die 1 "profiled run $tag failed"
+  "$BUILD_DIR/tools/nns-profile" --from "$OUT/profile/$tag.trace.json" \
+    --html "$OUT/profile/$tag.html" --json "$OUT/profile/$tag.json" \
+    >"$OUT/profile/$tag.txt" 2>/dev/null || nns_die 1 "nns-profile failed on $tag"
+}
+if [[ -x $BUILD_DIR/tools/nns-profile ]]; then
+  profile e3 --exp e3
+  if ((!smoke)); then
+    profile e1 --exp e1 --config fast,mid,slow --frames 100
+    profile e2 --exp e2
+    profile e4-320 --exp e4 --config 320
+  fi
+else
+  echo "$NNS_TAG: $BUILD_DIR/tools/nns-profile not built: no per-element profile" >&2
+fi
+
 $PY "$HERE/report.py" plot "$RES" "$OUT" || nns_die 1 "report.py plot failed"
 if ((docs)); then
   mkdir -p "$ROOT/docs/paper"
   cp "$OUT"/e[1-4].png "$OUT/tables.md" "$ROOT/docs/paper/"
+  cp "$OUT"/profile/*.txt "$ROOT/docs/paper/" 2>/dev/null || true
   echo "$NNS_TAG: figures and tables copied to docs/paper/"
 fi
 echo "$NNS_TAG: done: $(wc -l <"$RES") runs, figures $OUT/e1.png .. e4.png, tables $OUT/tables.md"
