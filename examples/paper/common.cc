@@ -247,7 +247,13 @@ void GstRun::on_sink(const char *name, std::function<void(GstBuffer *)> fn) {
       c->run->last_t_ = std::max(c->run->last_t_, t);
       c->run->last_cpu_ = std::max(c->run->last_cpu_, cpu);
     }
-    if (c->fn) c->fn(buf);
+    try {  // exceptions must not cross into GLib
+      if (c->fn) c->fn(buf);
+    } catch (const std::exception &e) {
+      g_printerr("nns-paper: sink %s: %s\n", c->name.c_str(), e.what());
+      std::lock_guard lk(c->run->mu_);
+      c->run->callback_error_ = c->name + ": " + e.what();
+    }
   };
   g_signal_connect(element(name), "new-data", G_CALLBACK(cb), ctx.get());
   sinks_.push_back(std::move(ctx));
@@ -297,7 +303,10 @@ void GstRun::stamp(const char *element_name, const char *pad_name, int slot) {
 
 std::string GstRun::run(int timeout_s) {
   t0_ = Clock::now();
-  return nns_example::run_to_eos(pipeline_, timeout_s, "no EOS before the timeout");
+  std::string err = nns_example::run_to_eos(pipeline_, timeout_s, "no EOS before the timeout");
+  std::lock_guard lk(mu_);
+  return err.empty() && !callback_error_.empty() ? "output callback failed: " + callback_error_
+                                                 : err;
 }
 
 std::size_t GstRun::count(const std::string &sink) const {

@@ -127,6 +127,7 @@ class GstRun {
   mutable std::mutex mu_;
   std::map<GstClockTime, std::map<int, double>> times_;  // PTS -> slot -> seconds
   Clock::time_point t0_ = Clock::now();
+  std::string callback_error_;  // first exception caught in a sink callback
   bool first_set_ = false;
   double first_t_ = 0, first_cpu_ = 0, last_t_ = 0, last_cpu_ = 0;
   friend struct StampCtx;

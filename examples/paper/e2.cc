@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // E2: multi-sensor aggregation into a recurrent model (the paper's activity recognition
 // sensor). Three recorded streams at different rates:
-//   video 64x64 RGB 30 fps -> per-frame features (e2_video.onnx) -> windows of 12 frames,
+//   video 128x128 RGB 30 fps -> per-frame features (e2_video.onnx) -> windows of 12 frames,
 //                             hop 6 (tensor_aggregator)
 //   audio 16 kHz mono, 100 ms chunks -> features (e2_audio.onnx) -> windows of 4, hop 2
 //   IMU-like 6 x float32 at 100 Hz, 100 ms chunks -> windows of 40 samples, hop 20
@@ -15,7 +15,7 @@
 namespace paper {
 namespace {
 
-constexpr std::size_t kVideo = 64 * 64 * 3, kAudio = 1600, kImu = 10 * 6;
+constexpr std::size_t kVideo = 128 * 128 * 3, kAudio = 1600, kImu = 10 * 6;
 constexpr int kVWin = 12, kVHop = 6, kAWin = 4, kAHop = 2, kIWin = 4, kIHop = 2;  // in records
 
 std::string pace(const Options &o) {
@@ -50,7 +50,7 @@ void run_nns(const Options &o, Result &r) {
   std::string d =
       "filesrc location=" + in + "/e2.rgb blocksize=" + std::to_string(kVideo) +
       " num-buffers=" + std::to_string(n.video) +
-      " ! rawvideoparse format=rgb width=64 height=64 framerate=30/1 ! " + pace(o) +
+      " ! rawvideoparse format=rgb width=128 height=128 framerate=30/1 ! " + pace(o) +
       "tensor_converter ! tensor_" + ort_filter(m + "/e2_video.onnx") +
       " name=fv ! tensor_aggregator frames-out=12 frames-flush=6 frames-dim=1 ! mux.sink_0 "
       "filesrc location=" +
@@ -121,7 +121,7 @@ void run_control(const Options &o, Result &r) {
     if (due == tv) {
       vf.read(vi, frame.data());
       std::vector<Ort::Value> x;
-      x.push_back(OrtModel::tensor(frame.data(), kVideo, {1, 64, 64, 3}));
+      x.push_back(OrtModel::tensor(frame.data(), kVideo, {1, 128, 128, 3}));
       auto y = video.run(x);
       std::copy_n(y[0].GetTensorData<float>(), 16, &vfeat[vi * 16]);
       ++vi;

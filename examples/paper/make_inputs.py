@@ -5,7 +5,7 @@ Usage: /usr/bin/python3 examples/paper/make_inputs.py <folder> <E1 frames> <E2 s
                                                        <E3 frames> <E4 frames>
 
   e1.rgb     224x224 RGB frames             e3.rgb   160x120 RGB frames
-  e4.rgb     640x360 RGB frames             e2.rgb   64x64 RGB frames at 30 fps
+  e4.rgb     640x360 RGB frames             e2.rgb   128x128 RGB frames at 30 fps
   e2.s16     16 kHz mono signed 16-bit PCM  e2.imu   6 float32 channels at 100 Hz
 Video frames are a dark noisy background with two bright discs moving across it (the
 "faces"/"objects" the detectors of make_models.py react to); in e3.rgb the discs are absent
@@ -47,7 +47,7 @@ def main():
     os.makedirs(out, exist_ok=True)
     p = lambda name: os.path.join(out, name)  # noqa: E731
     clip(p("e1.rgb"), n1, 224, 224, 1)
-    clip(p("e2.rgb"), 30 * secs2, 64, 64, 2)
+    clip(p("e2.rgb"), 30 * secs2, 128, 128, 2)
     clip(p("e3.rgb"), n3, 160, 120, 3, gaps=True)
     clip(p("e4.rgb"), n4, 640, 360, 4)
     rng = np.random.default_rng(5)

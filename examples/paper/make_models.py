@@ -12,7 +12,7 @@ flow, not about accuracy.
 Written files (all in <output folder>):
   e1_fast.onnx, e1_mid.onnx, e1_slow.onnx   E1: three classifiers of different speeds,
                                             input uint8 NHWC 1x224x224x3
-  e2_video.onnx  uint8 1x64x64x3 -> float32 1x16    (per video frame features)
+  e2_video.onnx  uint8 1x128x128x3 -> float32 1x16    (per video frame features)
   e2_audio.onnx  int16 1600x1    -> float32 1x32    (per 100 ms audio features)
   e2_gru.onnx    (float32 1x12x16, 1x4x32, 1x40x6) -> float32 1x5 (GRU over the three windows)
   e3_pnet_<i>.onnx  uint8 1x120x160x3 -> boxes 1xNx1x4, logits 1xNx2 at scale i (in-model resize)
@@ -75,8 +75,8 @@ class Classifier(nn.Module):
 class VideoFeat(nn.Module):
     def __init__(self):
         super().__init__()
-        self.body = conv_stack([3, 32, 64, 64], [1, 2, 2])
-        self.fc = nn.Linear(64, 16)
+        self.body = conv_stack([3, 64, 128, 128], [1, 2, 2])
+        self.fc = nn.Linear(128, 16)
 
     def forward(self, x):
         return torch.tanh(self.fc(self.body(to_nchw(x)).mean(dim=(2, 3))))
@@ -278,7 +278,7 @@ def main():
     export(Classifier([3, 32, 64, 64, 128, 128, 128, 128], [2, 1, 1, 1, 2, 1, 1]), img224,
            p("e1_slow.onnx"), ["image"], ["scores"])
     # E2
-    export(VideoFeat(), torch.zeros(1, 64, 64, 3, dtype=torch.uint8), p("e2_video.onnx"),
+    export(VideoFeat(), torch.zeros(1, 128, 128, 3, dtype=torch.uint8), p("e2_video.onnx"),
            ["frame"], ["features"])
     export(AudioFeat(), torch.zeros(1600, 1, dtype=torch.int16), p("e2_audio.onnx"), ["pcm"],
            ["features"])

@@ -78,6 +78,11 @@ def med(runs, key, lat=None, field="p50"):
     return statistics.median(v) if v else float("nan")
 
 
+def per_cpu(runs, key):
+    """Work per CPU second (figure / CPU %): robust against the share of a loaded machine."""
+    return med(runs, key) / max(1e-9, med(runs, "cpu_pct") / 100.0)
+
+
 def measured(runs, exp, config=None):
     """(live, runs per mode): live runs when there are any, else batch."""
     live = any(r["info"].get("live") == "yes" for r in pick(runs, exp, "nns", config))
@@ -98,15 +103,16 @@ def bars(ax, labels, series, title, ylabel):
 
 
 def e1(runs, plt, out, md):
-    cfgs = [c for c in ["fast", "mid", "slow", "fast,mid,slow"] if pick(runs, "e1", "nns", c)]
-    fig, axs = plt.subplots(1, 3, figsize=(13, 3.6))
+    cfgs = [c for c in ["fast", "mid", "slow", "fast,mid", "mid,slow", "fast,slow",
+                        "fast,mid,slow"] if pick(runs, "e1", "nns", c)]
+    fig, axs = plt.subplots(3, 1, figsize=(13, 10))
     rows = []
     labels, tput, cpu, rss = [], {"control": [], "nns": []}, {"control": [], "nns": []}, \
         {"control": [], "nns": []}
     for c in cfgs:
         live, by = measured(runs, "e1", c)
         for k in c.split(","):
-            labels.append("%s\n(%s)" % (k, "alone" if "," not in c else "all 3"))
+            labels.append("%s\n(%s)" % (k, "alone" if "," not in c else c.replace(",", "+")))
             for m in by:
                 tput[m].append(med(by[m], "fps_" + k))
         for m in by:
@@ -133,9 +139,9 @@ def e1(runs, plt, out, md):
     batch = {m: pick(runs, "e1", m, "fast,mid,slow", False) for m in ("control", "nns")}
     if batch["nns"]:
         md.append("\nBatch (every frame through every model, median of %d): " % len(batch["nns"])
-                  + "; ".join("%s %.1f fps, CPU %.0f%%" % (m, med(batch[m], "fps_slow"),
-                                                          med(batch[m], "cpu_pct"))
-                              for m in batch))
+                  + "; ".join("%s %.1f fps, CPU %.0f%%, %.1f frames per CPU s"
+                              % (m, med(batch[m], "fps_slow"), med(batch[m], "cpu_pct"),
+                                 per_cpu(batch[m], "fps_slow")) for m in batch))
     md.append("")
 
 
@@ -144,14 +150,16 @@ def e2(runs, plt, out, md):
     live = {m: pick(runs, "e2", m, live=True) for m in ("control", "nns")}
     batch = {m: pick(runs, "e2", m, live=False) for m in ("control", "nns")}
     md.append("### E2\n\n| impl | input | video fps | audio chunks/s | windows/s | CPU % | "
-              "peak RSS MiB | GRU p50 ms |\n|---|---|---|---|---|---|---|---|")
+              "video frames per CPU s | peak RSS MiB | GRU p50 ms |\n"
+              "|---|---|---|---|---|---|---|---|---|")
     for name, sel in (("30 fps live", live), ("batch", batch)):
         for m in sel:
             if sel[m]:
-                md.append("| %s | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |" % (
+                md.append("| %s | %s | %.1f | %.1f | %.1f | %.1f | %.1f | %.1f | %.2f |" % (
                     m, name, med(sel[m], "fps_video"), med(sel[m], "fps_audio"),
                     med(sel[m], "fps_windows"), med(sel[m], "cpu_pct"),
-                    med(sel[m], "rss_peak_mib"), med(sel[m], None, "gru")))
+                    per_cpu(sel[m], "fps_video"), med(sel[m], "rss_peak_mib"),
+                    med(sel[m], None, "gru")))
     md.append("")
     modes = [("Control", "control"), ("NNStreamer-cpp", "nns")]
     src = live if live["nns"] else batch
@@ -197,6 +205,8 @@ def e3(runs, plt, out, md):
             med(lat[m], None, s, "mean") for _, m in modes)))
     md.append("| CPU %% (batch) | %.1f | %.1f |" % tuple(med(batch[m], "cpu_pct")
                                                       for _, m in modes))
+    md.append("| frames per CPU second (batch) | %.1f | %.1f |" % tuple(
+        per_cpu(batch[m], "fps") for _, m in modes))
     md.append("| peak RSS MiB | %.1f | %.1f |" % tuple(med(batch[m], "rss_peak_mib")
                                                       for _, m in modes))
     faces = [med(batch[m], "face_frames") for _, m in modes]
@@ -214,16 +224,16 @@ def e4(runs, plt, out, md):
     fig, axs = plt.subplots(1, 3, figsize=(13, 3.6))
     modes = [("Control", "control"), ("NNStreamer-cpp", "nns")]
     sizes = [s for s in ("160", "320") if pick(runs, "e4", "nns", s)]
-    md.append("### E4\n\n| impl | model | input | throughput fps | CPU % | latency p50 ms | "
-              "peak RSS MiB |\n|---|---|---|---|---|---|---|")
+    md.append("### E4\n\n| impl | model | input | throughput fps | CPU % | frames per CPU s | "
+              "latency p50 ms | peak RSS MiB |\n|---|---|---|---|---|---|---|---|")
     for s in sizes:
         for live in (False, True):
             for _, m in modes:
                 sel = pick(runs, "e4", m, s, live)
                 if sel and (not live or any(r["info"].get("live") == "yes" for r in sel)):
-                    md.append("| %s | %sx%s | %s | %.1f | %.1f | %.2f | %.1f |" % (
+                    md.append("| %s | %sx%s | %s | %.1f | %.1f | %.1f | %.2f | %.1f |" % (
                         m, s, s, "30 fps live" if live else "batch", med(sel, "fps"),
-                        med(sel, "cpu_pct"), med(sel, None, "overall"),
+                        med(sel, "cpu_pct"), per_cpu(sel, "fps"), med(sel, None, "overall"),
                         med(sel, "rss_peak_mib")))
     md.append("")
 

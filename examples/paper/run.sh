@@ -77,7 +77,7 @@ $PY "$HERE/report.py" check "$OUT/dumps" || nns_die 1 "pipeline and Control outp
 # 2. Measurements (full mode): batch runs three times (the report takes the median), live runs
 #    at 30 fps once.
 if ((!smoke)); then
-  for c in fast mid slow fast,mid,slow; do both e1 "$c" --live; done
+  for c in fast mid slow fast,mid mid,slow fast,slow fast,mid,slow; do both e1 "$c" --live; done
   for i in 1 2 3; do both e1 fast,mid,slow --frames 100; done
   both e2 "" --live
   for i in 1 2 3; do both e2 ""; done
