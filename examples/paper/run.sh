@@ -13,7 +13,7 @@
 #      NNS_PAPER_SKIP_MISSING=1: exit 77 (skipped) when the program, models or ONNX Runtime
 #      back end are missing (never in CI).
 set -euo pipefail
-# shellcheck source=../common.sh
+# shellcheck source=examples/common.sh
 . "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
 nns_example_init paper NNS_PAPER_SKIP_MISSING
 
@@ -41,7 +41,7 @@ $PY -c "import matplotlib, numpy" 2>/dev/null ||
 nns_enter_build_env
 
 # Input lengths: E1 frames, E2 seconds, E3 frames, E4 frames.
-if ((smoke)); then lens=(12 2 16 8); else lens=(300 20 300 150); fi
+if ((smoke)); then lens=(12 2 16 8); else lens=(300 12 300 150); fi
 rm -rf "$OUT"
 mkdir -p "$OUT/inputs" "$OUT/dumps"
 RES=$OUT/results.jsonl
@@ -77,14 +77,16 @@ $PY "$HERE/report.py" check "$OUT/dumps" || nns_die 1 "pipeline and Control outp
 # 2. Measurements (full mode): batch runs three times (the report takes the median), live runs
 #    at 30 fps once.
 if ((!smoke)); then
-  for c in fast mid slow fast,mid mid,slow fast,slow fast,mid,slow; do both e1 "$c" --live; done
-  for i in 1 2 3; do both e1 fast,mid,slow --frames 100; done
+  for c in fast mid slow fast,mid mid,slow fast,slow fast,mid,slow; do
+    both e1 "$c" --live --frames 240
+  done
+  for _ in 1 2 3; do both e1 fast,mid,slow --frames 100; done
   both e2 "" --live
-  for i in 1 2 3; do both e2 ""; done
-  for i in 1 2 3; do both e3 ""; done
+  for _ in 1 2 3; do both e2 ""; done
+  for _ in 1 2 3; do both e3 ""; done
   both e3 "" --live --rate 5 --frames 25
   for s in 160 320; do
-    for i in 1 2 3; do both e4 $s; done
+    for _ in 1 2 3; do both e4 $s; done
     both e4 $s --live
   done
 fi
@@ -119,7 +121,9 @@ $PY "$HERE/report.py" plot "$RES" "$OUT" || nns_die 1 "report.py plot failed"
 if ((docs)); then
   mkdir -p "$ROOT/docs/paper"
   cp "$OUT"/e[1-4].png "$OUT/tables.md" "$ROOT/docs/paper/"
-  cp "$OUT"/profile/*.txt "$ROOT/docs/paper/" 2>/dev/null || true
+  for f in "$OUT"/profile/*.txt; do
+    [[ -f $f ]] && sed "s|$OUT/||g" "$f" >"$ROOT/docs/paper/$(basename "$f")"
+  done
   echo "$NNS_TAG: figures and tables copied to docs/paper/"
 fi
 echo "$NNS_TAG: done: $(wc -l <"$RES") runs, figures $OUT/e1.png .. e4.png, tables $OUT/tables.md"
