@@ -10,3 +10,7 @@ if(NNS_BUILD_EXAMPLES AND TARGET nns_onnxruntime)
     PASS_REGULAR_EXPRESSION "paper: done: 10 runs"
     SKIP_RETURN_CODE 77 LABELS paper TIMEOUT 60)
 endif()
+# report.py check itself: it fails on different, shorter or missing pipeline outputs.
+add_test(NAME paper.report_check COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/paper/report_check_test.sh)
+set_tests_properties(paper.report_check PROPERTIES LABELS paper TIMEOUT 30
+  PASS_REGULAR_EXPRESSION "all cases as expected")
