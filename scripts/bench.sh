@@ -5,7 +5,7 @@
 #
 # usage: scripts/bench.sh [name-substring]      e.g. scripts/bench.sh pipeline
 #        scripts/bench.sh paper                 the paper's experiments E1-E4 (examples/paper/run.sh,
-#                                               docs/paper-experiments.md), 6-7 minutes
+#                                               docs/paper-experiments.md), under 10 minutes
 # env:   NNS_BUILD_DIR (build), NNS_JOBS (nproc)
 # Benchmarks are timing-sensitive: run them on an otherwise idle machine and compare medians.
 set -euo pipefail
