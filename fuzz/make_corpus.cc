@@ -3,6 +3,7 @@
 // 1..16, 1, 2, 16 and 17 tensors, names, flexible format, odd rates) for each wire format, and
 // valid flexible/sparse headers. usage: nns_fuzz_corpus <out-dir>  (makes <out-dir>/<target>/)
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -112,6 +113,14 @@ int main(int argc, char **argv) {
       nns::write_meta_header(h, buf);
       save(dir, n++, buf, sizeof buf);
     }
+  }
+  const fs::path iio = root / "iio_channel";
+  fs::create_directories(iio);
+  n = 0;
+  for (const char *seed : {"le:s12/16>>4\n\x12\x34", "be:u10/16>>6\n\xff\xc0",
+                           "le:s24/32>>8\n\x01\x02\x03\x84", "le:s64/64>>0\n01234567",
+                           "be:s8/8>>0\n\x80", "le:u24/24>>0\n\x01\x02\x83"}) {
+    save(iio, n++, reinterpret_cast<const uint8_t *>(seed), std::strlen(seed));
   }
   {  // nnstreamer-edge TCP frames: handshake frames, a data frame with metadata, a goodbye.
     const fs::path edir = root / "edge_frame";
