@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 """Every function declared in an installed C header is exported by the library that NNStreamer
 puts it in: libnnstreamer-single.so for the GStreamer-free utility, configuration, logging and
-single-shot headers, the plugin libnnstreamer.so for the rest.
+single-shot headers, libcapi-nnstreamer.so for the Pipeline API (nnstreamer.h), the plugin
+libnnstreamer.so for the rest.
   check_exports.py <installed include/nnstreamer dir> <libnnstreamer-single.so> <libnnstreamer.so>
                    [<library>=<function>,<function>...]...
 The optional arguments list what a library without an installed header (NNStreamer's decoder and
@@ -13,7 +14,9 @@ import sys
 from pathlib import Path
 
 SINGLE_HEADERS = {"nnstreamer_plugin_api_util.h", "nnstreamer_conf.h", "nnstreamer_log.h",
-                  "nnstreamer-single.h", "ml-api-common.h"}
+                  "nnstreamer-single.h", "ml-api-common.h", "nnstreamer-tizen-internal.h"}
+# The ML Pipeline API has a library of its own (NNStreamer's libcapi-nnstreamer), beside single.
+CAPI_HEADERS = {"nnstreamer.h"}
 
 
 def declared_functions(text):
@@ -42,9 +45,18 @@ def exported(lib):
 def main():
     inc, single, plugin = sys.argv[1:4]
     libs = {"libnnstreamer-single.so": exported(single), "libnnstreamer.so": exported(plugin)}
+    capi = Path(single).with_name("libcapi-nnstreamer.so")
+    if capi.exists():
+        libs["libcapi-nnstreamer.so"] = exported(str(capi))
     missing, checked = [], 0
     for h in sorted(Path(inc).glob("*.h")):
-        lib = "libnnstreamer-single.so" if h.name in SINGLE_HEADERS else "libnnstreamer.so"
+        if h.name in CAPI_HEADERS:
+            lib = "libcapi-nnstreamer.so"
+            if lib not in libs:
+                missing.append(f"{h.name} is installed but {capi} is not")
+                continue
+        else:
+            lib = "libnnstreamer-single.so" if h.name in SINGLE_HEADERS else "libnnstreamer.so"
         for fn in declared_functions(h.read_text()):
             checked += 1
             if fn not in libs[lib]:
