@@ -36,6 +36,10 @@ namespace {
 
 constexpr uint32_t kQueueSize = 100;
 constexpr auto kWaitSubscribersLimit = std::chrono::seconds(10);
+// roscpp writes queued messages from its own thread and drops what is still queued when the
+// publisher goes away; it has no flush call. At EOS the sink keeps the connection this long
+// before letting the pipeline stop, so the last frames reach connected subscribers.
+constexpr auto kEosLinger = std::chrono::milliseconds(300);
 
 struct RosSinkPriv {
   // Settings
@@ -193,6 +197,10 @@ static gboolean gst_tensor_ros_sink_stop(GstBaseSink *sink) {
 
 static gboolean gst_tensor_ros_sink_event(GstBaseSink *sink, GstEvent *event) {
   auto *self = GST_TENSOR_ROS_SINK(sink);
+  if (GST_EVENT_TYPE(event) == GST_EVENT_EOS) {
+    const auto &pub = self->priv->publisher;
+    if (pub && pub->subscriber_count() > 0) std::this_thread::sleep_for(kEosLinger);
+  }
   if (self->priv->emit_signal) {
     if (GST_EVENT_TYPE(event) == GST_EVENT_STREAM_START)
       g_signal_emit(self, ros_sink_signals[SIGNAL_STREAM_START], 0);
