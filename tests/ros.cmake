@@ -20,9 +20,17 @@ if(TARGET nnstreamer_ros)
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/ros/check_md5.cmake)
   set_tests_properties(ros.message_md5 PROPERTIES LABELS ros TIMEOUT 30)
 
+  # A plain roscpp node (C++17, as ROS 1 message headers need) with the generated header.
+  add_executable(ros_cpp_peer ros/ros_cpp_peer.cc)
+  add_dependencies(ros_cpp_peer nns_ros_messages)
+  set_target_properties(ros_cpp_peer PROPERTIES CXX_STANDARD 17)
+  target_include_directories(ros_cpp_peer PRIVATE ${CMAKE_BINARY_DIR}/ros/include)
+  target_link_libraries(ros_cpp_peer PRIVATE PkgConfig::ROSCPP nns_warnings)
+
   add_executable(tensor_ros_cases ros/tensor_ros_cases.cc)
   target_link_libraries(tensor_ros_cases PRIVATE nns_test_support nns_warnings)
-  add_dependencies(tensor_ros_cases nnstreamer_ros)
+  target_compile_definitions(tensor_ros_cases PRIVATE NNS_ROS_CPP_PEER="$<TARGET_FILE:ros_cpp_peer>")
+  add_dependencies(tensor_ros_cases nnstreamer_ros ros_cpp_peer)
   gtest_discover_tests(tensor_ros_cases DISCOVERY_TIMEOUT 60
     PROPERTIES LABELS ros TIMEOUT 60 FIXTURES_REQUIRED ros_master ENVIRONMENT "GST_PLUGIN_PATH=")
 endif()

@@ -126,12 +126,14 @@ nns::test::RunResult publish(const std::string &desc, const std::vector<Frame> &
   return r;
 }
 
-// Output of a finished ros_peer.py (stdout), with its exit status.
+// A peer node process (ros_peer.py by default, or any command); finish() returns its exit
+// status and stdout.
 struct Peer {
   FILE *f = nullptr;
-  explicit Peer(const std::string &args) {
-    std::string cmd =
-        "/usr/bin/python3 " + std::string(NNS_SOURCE_DIR) + "/tests/ros/ros_peer.py " + args;
+  explicit Peer(const std::string &args, bool python = true) {
+    std::string cmd = python ? "/usr/bin/python3 " + std::string(NNS_SOURCE_DIR) +
+                                   "/tests/ros/ros_peer.py " + args
+                             : args;
     f = popen(cmd.c_str(), "r");
   }
   std::pair<int, std::string> finish() {
@@ -250,6 +252,30 @@ TEST(TensorRos, SrcReceivesWhatRospyNodePublishes) {
   // The wire's rank is kept: 4 dims for int16 3:2 (padded by ros_peer.py), 5 for the uint8.
   EXPECT_EQ(got.config->info.to_string(), "2 tensor(s): [0] int16 3:2:1:1, [1] uint8 3:1:1:1:1");
   EXPECT_EQ(got.frames, (std::vector<Frame>{{a, b}, {c, d}}));
+}
+
+// A plain roscpp node (tests/ros/ros_cpp_peer.cc) forwards what the sink publishes to the
+// source: bytes and caps unchanged through a separate C++ ROS process.
+TEST(TensorRos, RoscppNodeForwardsSinkToSrc) {
+  use_ros();
+  GstElement *rx =
+      launch("tensor_ros_src topic=/nns_test/cpp_out num-buffers=2 ! appsink name=out sync=false");
+  gst_element_set_state(rx, GST_STATE_PLAYING);
+  Peer peer(std::string(NNS_ROS_CPP_PEER) + " /nns_test/cpp_in /nns_test/cpp_out 2", false);
+  std::vector<Frame> frames{{pattern(40, 9), pattern(6, 10)}, {pattern(40, 11), pattern(6, 12)}};
+  auto r = publish(
+      "appsrc name=in caps=\"other/tensors,format=static,num_tensors=2,dimensions=5:2.3:2,"
+      "types=float32.uint8,framerate=0/1\" ! tensor_ros_sink topic=/nns_test/cpp_in "
+      "wait-subscribers=1",
+      frames);
+  EXPECT_TRUE(r.eos) << r.error_text;
+  Received got = pull(rx, 2);
+  EXPECT_EQ(peer.finish().first, 0);
+  gst_element_set_state(rx, GST_STATE_NULL);
+  gst_object_unref(rx);
+  ASSERT_TRUE(got.config.has_value());
+  EXPECT_EQ(got.config->info.to_string(), "2 tensor(s): [0] float32 5:2:1:1, [1] uint8 3:2:1:1");
+  EXPECT_EQ(got.frames, frames);
 }
 
 // Errors: each names the element, the topic and what was wrong.
