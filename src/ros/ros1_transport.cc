@@ -10,6 +10,8 @@
 // at most kMasterRetry.
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
 
 #include <mutex>
 
@@ -62,6 +64,37 @@ std::string connect(const std::string &topic, const char *what) {
   return ::ros::names::resolve(resolved);
 }
 
+nns_ros_bridge::Tensors to_message(const std::vector<TensorView> &tensors) {
+  nns_ros_bridge::Tensors msg;
+  msg.tensors.resize(tensors.size());
+  for (std::size_t i = 0; i < tensors.size(); ++i) {
+    auto &out = msg.tensors[i];
+    const TensorView &v = tensors[i];
+    out.layout.dim.resize(v.layout->size());
+    for (std::size_t j = 0; j < v.layout->size(); ++j) {
+      out.layout.dim[j].label = (*v.layout)[j].label;
+      out.layout.dim[j].size = (*v.layout)[j].size;
+      out.layout.dim[j].stride = (*v.layout)[j].stride;
+    }
+    out.layout.data_offset = 0;
+    out.data.assign(v.data, v.data + v.size);
+  }
+  return msg;
+}
+
+WireMessage from_message(const nns_ros_bridge::Tensors &m) {
+  WireMessage out(m.tensors.size());
+  for (std::size_t i = 0; i < m.tensors.size(); ++i) {
+    const auto &in = m.tensors[i];
+    out[i].layout.reserve(in.layout.dim.size());
+    for (const auto &d : in.layout.dim)
+      out[i].layout.push_back(LayoutDim{d.label, d.size, d.stride});
+    out[i].data_offset = in.layout.data_offset;
+    out[i].data = in.data;
+  }
+  return out;
+}
+
 class Ros1Publisher final : public Publisher {
  public:
   Ros1Publisher(const std::string &topic, uint32_t queue_size)
@@ -78,20 +111,7 @@ class Ros1Publisher final : public Publisher {
   ~Ros1Publisher() override { pub_.shutdown(); }
 
   void publish(const std::vector<TensorView> &tensors) override {
-    nns_ros_bridge::Tensors msg;
-    msg.tensors.resize(tensors.size());
-    for (std::size_t i = 0; i < tensors.size(); ++i) {
-      auto &out = msg.tensors[i];
-      const TensorView &v = tensors[i];
-      out.layout.dim.resize(v.layout->size());
-      for (std::size_t j = 0; j < v.layout->size(); ++j) {
-        out.layout.dim[j].label = (*v.layout)[j].label;
-        out.layout.dim[j].size = (*v.layout)[j].size;
-        out.layout.dim[j].stride = (*v.layout)[j].stride;
-      }
-      out.layout.data_offset = 0;
-      out.data.assign(v.data, v.data + v.size);
-    }
+    nns_ros_bridge::Tensors msg = to_message(tensors);
     if (!::ros::ok())
       fail(ErrorKind::kStream, "ROS is shut down: cannot publish on topic '" + topic_ + "'");
     pub_.publish(msg);
@@ -132,18 +152,7 @@ class Ros1Subscriber final : public Subscriber {
   const std::string &topic() const override { return topic_; }
 
  private:
-  void deliver(const nns_ros_bridge::Tensors &m) {
-    WireMessage out(m.tensors.size());
-    for (std::size_t i = 0; i < m.tensors.size(); ++i) {
-      const auto &in = m.tensors[i];
-      out[i].layout.reserve(in.layout.dim.size());
-      for (const auto &d : in.layout.dim)
-        out[i].layout.push_back(LayoutDim{d.label, d.size, d.stride});
-      out[i].data_offset = in.layout.data_offset;
-      out[i].data = in.data;
-    }
-    on_message_(std::move(out));
-  }
+  void deliver(const nns_ros_bridge::Tensors &m) { on_message_(from_message(m)); }
 
   std::string topic_;
   ::ros::CallbackQueue queue_;
@@ -153,7 +162,82 @@ class Ros1Subscriber final : public Subscriber {
   std::unique_ptr<::ros::AsyncSpinner> spinner_;
 };
 
+class Ros1BagWriter final : public BagWriter {
+ public:
+  explicit Ros1BagWriter(const std::string &path) : path_(path) {
+    try {
+      bag_.open(path, rosbag::bagmode::Write);
+    } catch (const rosbag::BagException &e) {
+      fail(ErrorKind::kNotFound,
+           "property 'location': cannot create the rosbag '" + path + "': " + e.what());
+    }
+  }
+  ~Ros1BagWriter() override {
+    try {
+      bag_.close();
+    } catch (...) {
+    }
+  }
+  void write(const std::string &topic, const std::vector<TensorView> &tensors) override {
+    const auto now = std::chrono::system_clock::now().time_since_epoch();
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(now).count();
+    ::ros::Time stamp;
+    stamp.fromNSec(static_cast<uint64_t>(ns));
+    try {
+      bag_.write(topic, stamp, to_message(tensors));
+    } catch (const rosbag::BagException &e) {
+      fail(ErrorKind::kStream, "cannot write to the rosbag '" + path_ + "': " + e.what());
+    }
+  }
+
+ private:
+  std::string path_;
+  rosbag::Bag bag_;
+};
+
+class Ros1BagReader final : public BagReader {
+ public:
+  explicit Ros1BagReader(const std::string &path) : path_(path) {
+    try {
+      bag_.open(path, rosbag::bagmode::Read);
+      view_ = std::make_unique<rosbag::View>(bag_, rosbag::TypeQuery(kMessageType));
+      it_ = view_->begin();
+    } catch (const rosbag::BagException &e) {
+      fail(ErrorKind::kNotFound,
+           "property 'location': cannot read the rosbag '" + path + "': " + e.what());
+    }
+  }
+  bool next(WireMessage &out) override {
+    if (it_ == view_->end()) return false;
+    try {
+      auto m = it_->instantiate<nns_ros_bridge::Tensors>();
+      if (!m)
+        fail(ErrorKind::kStream, "rosbag '" + path_ + "': a message on " + it_->getTopic() +
+                                     " is not " + kMessageType + " (MD5 " + it_->getMD5Sum() + ")");
+      out = from_message(*m);
+      ++it_;
+    } catch (const rosbag::BagException &e) {
+      fail(ErrorKind::kStream, "rosbag '" + path_ + "': " + e.what());
+    }
+    return true;
+  }
+
+ private:
+  std::string path_;
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+};
+
 }  // namespace
+
+std::unique_ptr<BagWriter> open_bag_writer(const std::string &path) {
+  return std::make_unique<Ros1BagWriter>(path);
+}
+
+std::unique_ptr<BagReader> open_bag_reader(const std::string &path) {
+  return std::make_unique<Ros1BagReader>(path);
+}
 
 const char *transport_name() {
   return "ROS 1 (roscpp)";

@@ -115,4 +115,21 @@ std::unique_ptr<Publisher> make_publisher(const std::string &topic, uint32_t que
 std::unique_ptr<Subscriber> make_subscriber(const std::string &topic, uint32_t queue_size,
                                             std::function<void(WireMessage &&)> on_message);
 
+// Bag files in the transport's own format (rosbag for ROS 1). No master is needed.
+class BagWriter {
+ public:
+  virtual ~BagWriter() = default;
+  // Appends one message on `topic`, stamped with the wall-clock time.
+  virtual void write(const std::string &topic, const std::vector<TensorView> &tensors) = 0;
+};
+class BagReader {
+ public:
+  virtual ~BagReader() = default;
+  // The next nns_ros_bridge/Tensors message of any topic (others are skipped); false at the end.
+  virtual bool next(WireMessage &out) = 0;
+};
+// Both throw nns::Error(kNotFound / kSettings) naming the path and the reason.
+std::unique_ptr<BagWriter> open_bag_writer(const std::string &path);
+std::unique_ptr<BagReader> open_bag_reader(const std::string &path);
+
 }  // namespace nns::ros

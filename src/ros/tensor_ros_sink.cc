@@ -50,8 +50,11 @@ struct RosSinkPriv {
   std::atomic<bool> emit_signal{true};
   std::atomic<bool> silent{true};
   std::atomic<bool> dummy{false};
+  bool save_rosbag = false;
+  std::string location;
   // State (streaming thread, start/stop)
   std::unique_ptr<nns::ros::Publisher> publisher;
+  std::unique_ptr<nns::ros::BagWriter> bag;
   std::string resolved_topic;
   nns::TensorsInfo info;
   std::vector<std::vector<nns::ros::LayoutDim>> layouts;
@@ -66,7 +69,9 @@ enum {
   PROP_SIGNAL_RATE,
   PROP_EMIT_SIGNAL,
   PROP_SILENT,
-  PROP_DUMMY
+  PROP_DUMMY,
+  PROP_SAVE_ROSBAG,
+  PROP_LOCATION
 };
 enum { SIGNAL_NEW_DATA, SIGNAL_STREAM_START, SIGNAL_EOS, N_SIGNALS };
 guint ros_sink_signals[N_SIGNALS];
@@ -115,6 +120,17 @@ static void gst_tensor_ros_sink_set_property(GObject *object, guint id, const GV
     case PROP_DUMMY:
       p->dummy = g_value_get_boolean(value);
       break;
+    case PROP_SAVE_ROSBAG: {
+      std::lock_guard lock(p->lock);
+      p->save_rosbag = g_value_get_boolean(value);
+      break;
+    }
+    case PROP_LOCATION: {
+      std::lock_guard lock(p->lock);
+      const char *s = g_value_get_string(value);
+      p->location = s ? s : "";
+      break;
+    }
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
@@ -146,6 +162,16 @@ static void gst_tensor_ros_sink_get_property(GObject *object, guint id, GValue *
     case PROP_DUMMY:
       g_value_set_boolean(value, p->dummy);
       break;
+    case PROP_SAVE_ROSBAG: {
+      std::lock_guard lock(p->lock);
+      g_value_set_boolean(value, p->save_rosbag);
+      break;
+    }
+    case PROP_LOCATION: {
+      std::lock_guard lock(p->lock);
+      g_value_set_string(value, p->location.empty() ? nullptr : p->location.c_str());
+      break;
+    }
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
@@ -160,21 +186,27 @@ static gboolean gst_tensor_ros_sink_start(GstBaseSink *sink) {
   auto *self = GST_TENSOR_ROS_SINK(sink);
   return nns::gst::guard(sink, FALSE, [&]() -> gboolean {
     RosSinkPriv *p = self->priv;
-    std::string topic;
+    std::string topic, location;
+    bool save_rosbag;
     {
       std::lock_guard lock(p->lock);
       topic = p->topic;
+      location = p->location;
+      save_rosbag = p->save_rosbag;
     }
-    if (topic.empty()) {
-      // nnstreamer-ros's name: /tensor_ros_sink/PID_<pid>/<element name>.
-      gchar *name = gst_object_get_name(GST_OBJECT(sink));
-      topic = "/tensor_ros_sink/PID_" + std::to_string(getpid()) + "/" + name;
-      g_free(name);
-    }
+    gchar *name = gst_object_get_name(GST_OBJECT(sink));
+    const std::string element_name = name;
+    g_free(name);
+    // nnstreamer-ros's name: /tensor_ros_sink/PID_<pid>/<element name>.
+    if (topic.empty())
+      topic = "/tensor_ros_sink/PID_" + std::to_string(getpid()) + "/" + element_name;
     p->waited = false;
     p->last_signal = GST_CLOCK_TIME_NONE;
+    // nnstreamer-ros's default bag name: <element name>.bag in the working folder.
+    if (save_rosbag)
+      p->bag = nns::ros::open_bag_writer(location.empty() ? element_name + ".bag" : location);
     if (p->dummy) {
-      p->resolved_topic = topic;
+      p->resolved_topic = topic.front() == '/' ? topic : "/" + topic;
       GST_INFO_OBJECT(sink, "dummy mode: consuming without publishing (topic %s)", topic.c_str());
       return TRUE;
     }
@@ -190,6 +222,7 @@ static gboolean gst_tensor_ros_sink_stop(GstBaseSink *sink) {
   RosSinkPriv *p = GST_TENSOR_ROS_SINK(sink)->priv;
   return nns::gst::guard(sink, FALSE, [&]() -> gboolean {
     p->publisher.reset();
+    p->bag.reset();  // closes the file
     p->layouts.clear();
     return TRUE;
   });
@@ -281,6 +314,7 @@ static GstFlowReturn gst_tensor_ros_sink_render(GstBaseSink *sink, GstBuffer *bu
         views[i] = nns::ros::TensorView{maps[i].data, maps[i].size, &p->layouts[i]};
       }
       if (p->publisher) p->publisher->publish(views);
+      if (p->bag) p->bag->write(p->resolved_topic, views);
     } catch (...) {
       unmap_all();
       throw;
@@ -341,6 +375,17 @@ static void gst_tensor_ros_sink_class_init(GstTensorRosSinkClass *klass) {
       g_param_spec_boolean("dummy", "Dummy",
                            "Consume the frames without connecting to ROS or publishing", FALSE,
                            rw));
+
+  g_object_class_install_property(
+      gobject_class, PROP_SAVE_ROSBAG,
+      g_param_spec_boolean("enable-save-rosbag", "Enable-save-rosbag",
+                           "Save a rosbag file with the contents of the publishing topic", FALSE,
+                           rw));
+  g_object_class_install_property(
+      gobject_class, PROP_LOCATION,
+      g_param_spec_string("location", "Location",
+                          "Location of the rosbag file to save (default: <element name>.bag)",
+                          nullptr, rw));
 
   ros_sink_signals[SIGNAL_NEW_DATA] =
       g_signal_new("new-data", G_TYPE_FROM_CLASS(klass), G_SIGNAL_RUN_LAST, 0, nullptr, nullptr,

@@ -42,15 +42,19 @@ struct RosSrcPriv {
   double rate = kDefaultRate;
   double timeout = kDefaultTimeout;
   std::atomic<bool> silent{true};
+  bool load_rosbag = false;
+  std::string location;
   // State
   nns::ros::MessageQueue queue{kQueueSize};
   std::unique_ptr<nns::ros::Subscriber> subscriber;
+  std::unique_ptr<nns::ros::BagReader> bag;
+  std::chrono::steady_clock::time_point next_bag_message;
   std::string resolved_topic;
   std::optional<nns::TensorsConfig> config;  // from the first message
   guint64 received = 0;
 };
 
-enum { PROP_0, PROP_SILENT, PROP_TOPIC, PROP_RATE, PROP_TIMEOUT };
+enum { PROP_0, PROP_SILENT, PROP_TOPIC, PROP_RATE, PROP_TIMEOUT, PROP_LOAD_ROSBAG, PROP_LOCATION };
 
 }  // namespace
 
@@ -87,6 +91,14 @@ static void gst_tensor_ros_src_set_property(GObject *object, guint id, const GVa
     case PROP_TIMEOUT:
       p->timeout = g_value_get_double(value);
       break;
+    case PROP_LOAD_ROSBAG:
+      p->load_rosbag = g_value_get_boolean(value);
+      break;
+    case PROP_LOCATION: {
+      const char *s = g_value_get_string(value);
+      p->location = s ? s : "";
+      break;
+    }
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
@@ -109,6 +121,12 @@ static void gst_tensor_ros_src_get_property(GObject *object, guint id, GValue *v
     case PROP_TIMEOUT:
       g_value_set_double(value, p->timeout);
       break;
+    case PROP_LOAD_ROSBAG:
+      g_value_set_boolean(value, p->load_rosbag);
+      break;
+    case PROP_LOCATION:
+      g_value_set_string(value, p->location.empty() ? nullptr : p->location.c_str());
+      break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
@@ -122,18 +140,32 @@ static void gst_tensor_ros_src_finalize(GObject *object) {
 static gboolean gst_tensor_ros_src_start(GstBaseSrc *src) {
   RosSrcPriv *p = GST_TENSOR_ROS_SRC(src)->priv;
   return nns::gst::guard(src, FALSE, [&]() -> gboolean {
-    std::string topic;
+    std::string topic, location;
+    bool load_rosbag;
     {
       std::lock_guard lock(p->lock);
       topic = p->topic;
+      location = p->location;
+      load_rosbag = p->load_rosbag;
     }
-    if (topic.empty())
-      nns::fail(nns::ErrorKind::kSettings,
-                "property 'topic' is empty: give the ROS topic to subscribe to");
     p->config.reset();
     p->received = 0;
     p->queue.clear();
     p->queue.relock();
+    if (load_rosbag) {
+      // nnstreamer-ros: every Tensors message of the bag, whatever its topic; no master needed.
+      if (location.empty())
+        nns::fail(nns::ErrorKind::kSettings,
+                  "property 'location' is empty: enable-load-rosbag needs the rosbag file to read");
+      p->bag = nns::ros::open_bag_reader(location);
+      p->resolved_topic = location + " (rosbag)";
+      p->next_bag_message = std::chrono::steady_clock::now();
+      GST_INFO_OBJECT(src, "reading %s", p->resolved_topic.c_str());
+      return TRUE;
+    }
+    if (topic.empty())
+      nns::fail(nns::ErrorKind::kSettings,
+                "property 'topic' is empty: give the ROS topic to subscribe to");
     RosSrcPriv *pp = p;
     p->subscriber = nns::ros::make_subscriber(topic, kQueueSize, [pp](nns::ros::WireMessage &&m) {
       if (pp->queue.push(std::move(m)))
@@ -150,6 +182,7 @@ static gboolean gst_tensor_ros_src_stop(GstBaseSrc *src) {
   RosSrcPriv *p = GST_TENSOR_ROS_SRC(src)->priv;
   return nns::gst::guard(src, FALSE, [&]() -> gboolean {
     p->subscriber.reset();  // no callback runs after this
+    p->bag.reset();
     p->queue.clear();
     p->config.reset();
     return TRUE;
@@ -208,6 +241,64 @@ static nns::TensorsConfig config_for(const nns::TensorsInfo &info, double rate) 
   return c;
 }
 
+// Checks a received message against the caps (setting them from the first one) and wraps its
+// tensors in a buffer without copying. Throws nns::Error naming the topic.
+static GstBuffer *to_buffer(GstBaseSrc *src, RosSrcPriv *p, nns::ros::WireMessage &&msg,
+                            double rate) {
+  nns::TensorsInfo info = nns::ros::info_from_wire(msg, p->resolved_topic);
+  if (!p->config) {
+    p->config = config_for(info, rate);
+    if (!gst_base_src_negotiate(src)) {
+      GstCaps *caps = nns::gst::caps_from_config(*p->config);
+      std::string text = nns::gst::caps_to_string(caps);
+      gst_caps_unref(caps);
+      nns::fail(nns::ErrorKind::kNegotiation,
+                "topic " + p->resolved_topic +
+                    ": downstream refused the caps of the first message: " + text);
+    }
+  } else if (!info.same_as(p->config->info)) {
+    nns::fail(nns::ErrorKind::kStream,
+              "topic " + p->resolved_topic + ": message " + std::to_string(p->received) +
+                  " carries " + describe(info) +
+                  " but the caps were set from the first message to " + describe(p->config->info));
+  }
+  GstBuffer *buf = gst_buffer_new();
+  for (std::size_t i = 0; i < msg.size(); ++i) {
+    auto *bytes = new std::vector<uint8_t>(std::move(msg[i].data));
+    const std::size_t offset = msg[i].data_offset;
+    GstMemory *mem = gst_memory_new_wrapped(
+        GST_MEMORY_FLAG_READONLY, bytes->data(), bytes->size(), offset, bytes->size() - offset,
+        bytes, [](gpointer d) { delete static_cast<std::vector<uint8_t> *>(d); });
+    nns::gst::buffer_append_tensor(buf, mem, info[i]);
+  }
+  ++p->received;
+  if (!p->silent)
+    GST_INFO_OBJECT(src, "message %" G_GUINT64_FORMAT " from %s: %s", p->received,
+                    p->resolved_topic.c_str(), info.to_string().c_str());
+  return buf;
+}
+
+// enable-load-rosbag: the bag's next message, one per 1/rate seconds; EOS at the end.
+static GstFlowReturn next_from_bag(GstBaseSrc *src, RosSrcPriv *p, double rate, GstBuffer **out) {
+  auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(
+      p->next_bag_message - std::chrono::steady_clock::now());
+  nns::ros::WireMessage msg;
+  if (wait.count() > 0 && p->queue.pop(msg, wait) == nns::ros::MessageQueue::PopResult::kUnlocked)
+    return GST_FLOW_FLUSHING;  // the queue stays empty in bag mode: pop() is an interruptible sleep
+  if (!p->bag->next(msg)) {
+    if (!p->config)
+      nns::fail(nns::ErrorKind::kNotFound,
+                p->resolved_topic + " has no " + nns::ros::kMessageType + " message");
+    GST_INFO_OBJECT(src, "end of %s after %" G_GUINT64_FORMAT " messages",
+                    p->resolved_topic.c_str(), p->received);
+    return GST_FLOW_EOS;
+  }
+  p->next_bag_message = std::chrono::steady_clock::now() +
+                        std::chrono::microseconds(static_cast<int64_t>(1e6 / rate));
+  *out = to_buffer(src, p, std::move(msg), rate);
+  return GST_FLOW_OK;
+}
+
 static GstFlowReturn gst_tensor_ros_src_create(GstPushSrc *psrc, GstBuffer **out) {
   auto *src = GST_BASE_SRC(psrc);
   RosSrcPriv *p = GST_TENSOR_ROS_SRC(psrc)->priv;
@@ -219,6 +310,7 @@ static GstFlowReturn gst_tensor_ros_src_create(GstPushSrc *psrc, GstBuffer **out
       rate = p->rate;
     }
     nns::ros::WireMessage msg;
+    if (p->bag) return next_from_bag(src, p, rate, out);
     auto r = p->queue.pop(msg, std::chrono::milliseconds(static_cast<int64_t>(timeout * 1000)));
     if (r == nns::ros::MessageQueue::PopResult::kUnlocked) return GST_FLOW_FLUSHING;
     if (r == nns::ros::MessageQueue::PopResult::kTimeout) {
@@ -231,38 +323,7 @@ static GstFlowReturn gst_tensor_ros_src_create(GstPushSrc *psrc, GstBuffer **out
                       timeout);
       return GST_FLOW_EOS;
     }
-    nns::TensorsInfo info = nns::ros::info_from_wire(msg, p->resolved_topic);
-    if (!p->config) {
-      p->config = config_for(info, rate);
-      if (!gst_base_src_negotiate(src)) {
-        GstCaps *caps = nns::gst::caps_from_config(*p->config);
-        std::string text = nns::gst::caps_to_string(caps);
-        gst_caps_unref(caps);
-        nns::fail(nns::ErrorKind::kNegotiation,
-                  "topic " + p->resolved_topic +
-                      ": downstream refused the caps of the first message: " + text);
-      }
-    } else if (!info.same_as(p->config->info)) {
-      nns::fail(nns::ErrorKind::kStream, "topic " + p->resolved_topic + ": message " +
-                                             std::to_string(p->received) + " carries " +
-                                             describe(info) +
-                                             " but the caps were set from the first message to " +
-                                             describe(p->config->info));
-    }
-    GstBuffer *buf = gst_buffer_new();
-    for (std::size_t i = 0; i < msg.size(); ++i) {
-      auto *bytes = new std::vector<uint8_t>(std::move(msg[i].data));
-      const std::size_t offset = msg[i].data_offset;
-      GstMemory *mem = gst_memory_new_wrapped(
-          GST_MEMORY_FLAG_READONLY, bytes->data(), bytes->size(), offset, bytes->size() - offset,
-          bytes, [](gpointer d) { delete static_cast<std::vector<uint8_t> *>(d); });
-      nns::gst::buffer_append_tensor(buf, mem, info[i]);
-    }
-    ++p->received;
-    if (!p->silent)
-      GST_INFO_OBJECT(src, "message %" G_GUINT64_FORMAT " from %s: %s", p->received,
-                      p->resolved_topic.c_str(), info.to_string().c_str());
-    *out = buf;
+    *out = to_buffer(src, p, std::move(msg), rate);
     return GST_FLOW_OK;
   });
 }
@@ -300,6 +361,17 @@ static void gst_tensor_ros_src_class_init(GstTensorRosSrcClass *klass) {
                           "Seconds to wait for the next message: an error before the first "
                           "message, end of stream after it",
                           1.0, 600.0, kDefaultTimeout, rw));
+
+  g_object_class_install_property(
+      gobject_class, PROP_LOAD_ROSBAG,
+      g_param_spec_boolean("enable-load-rosbag", "Enable-load-rosbag",
+                           "Load a rosbag file to generate tensor(s) streams (one message per "
+                           "1/rate s; no ROS master needed)",
+                           FALSE, rw));
+  g_object_class_install_property(
+      gobject_class, PROP_LOCATION,
+      g_param_spec_string("location", "Location", "Location of the rosbag file to load", nullptr,
+                          rw));
 
   gst_element_class_set_static_metadata(element_class, "TensorRosSrc", "Source/Tensor",
                                         "Source element to get the topic data from ROS node",

@@ -10,6 +10,8 @@
                                  (optional "label" overrides every dim label); the layout is built
                                  here the way nnstreamer-ros does (outermost first, byte strides,
                                  at least 4 dims); publishes them once a subscriber is connected
+  ros_peer.py bag PATH           prints each message of a rosbag file as a JSON line like recv,
+                                 with "topic" first
   ros_peer.py md5                prints the generated class's type and MD5, and the MD5 computed
                                  from std_msgs/UInt8MultiArray's as ROS does
 Exits 1 after 10 s without the expected peer or messages.
@@ -63,6 +65,17 @@ def send(topic, messages):
     rospy.signal_shutdown("done")
 
 
+def describe(msg):
+    return [{"dims": [[d.label, d.size, d.stride] for d in t.layout.dim],
+             "offset": t.layout.data_offset, "data": bytes(t.data).hex()} for t in msg.tensors]
+
+
+def bag(path):
+    import rosbag
+    for topic, msg, _ in rosbag.Bag(path).read_messages():
+        print(json.dumps({"topic": topic, "type": msg._type, "tensors": describe(msg)}))
+
+
 def recv(topic, count):
     import threading
     import rospy
@@ -70,9 +83,7 @@ def recv(topic, count):
     got, done = [], threading.Event()
 
     def on_msg(msg):
-        got.append({"tensors": [{"dims": [[d.label, d.size, d.stride] for d in t.layout.dim],
-                                 "offset": t.layout.data_offset, "data": bytes(t.data).hex()}
-                                for t in msg.tensors]})
+        got.append({"tensors": describe(msg)})
         if len(got) >= count:
             done.set()
 
@@ -90,6 +101,8 @@ def recv(topic, count):
 if __name__ == "__main__":
     if len(sys.argv) >= 2 and sys.argv[1] == "md5":
         md5()
+    elif len(sys.argv) == 3 and sys.argv[1] == "bag":
+        bag(sys.argv[2])
     elif len(sys.argv) == 4 and sys.argv[1] == "recv":
         recv(sys.argv[2], int(sys.argv[3]))
     elif len(sys.argv) == 4 and sys.argv[1] == "send":

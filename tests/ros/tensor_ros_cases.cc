@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -276,6 +277,55 @@ TEST(TensorRos, RoscppNodeForwardsSinkToSrc) {
   ASSERT_TRUE(got.config.has_value());
   EXPECT_EQ(got.config->info.to_string(), "2 tensor(s): [0] float32 5:2:1:1, [1] uint8 3:2:1:1");
   EXPECT_EQ(got.frames, frames);
+}
+
+// enable-save-rosbag writes a real rosbag (read back by rospy's rosbag module) and
+// enable-load-rosbag replays it; neither needs the master (dummy=true).
+TEST(TensorRos, RosbagSaveAndLoad) {
+  use_ros("http://127.0.0.1:9/");
+  const std::string dir = nns::test::make_temp_dir();
+  const std::string bag = dir + "/out.bag";
+  std::vector<Frame> frames{{pattern(6, 20)}, {pattern(6, 21)}, {pattern(6, 22)}};
+  auto r = publish(
+      "appsrc name=in caps=\"other/tensors,format=static,num_tensors=1,"
+      "dimensions=(string)3:2,types=int8,framerate=0/1\" ! tensor_ros_sink dummy=true "
+      "topic=/bagged enable-save-rosbag=true location=" +
+          bag,
+      frames);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto [status, out] = Peer("bag " + bag).finish();
+  EXPECT_EQ(status, 0);
+  std::string want;
+  for (const Frame &f : frames)
+    want +=
+        "{\"topic\": \"/bagged\", \"type\": \"nns_ros_bridge/Tensors\", \"tensors\": "
+        "[{\"dims\": [[\"int8\", 1, 6], [\"int8\", 1, 6], [\"int8\", 2, 6], [\"int8\", 3, "
+        "3]], \"offset\": 0, \"data\": \"" +
+        hex(f[0]) + "\"}]}\n";
+  EXPECT_EQ(out, want);
+
+  GstElement *rx = launch("tensor_ros_src enable-load-rosbag=true rate=50 location=" + bag +
+                          " ! appsink name=out sync=false");
+  gst_element_set_state(rx, GST_STATE_PLAYING);
+  auto t0 = Clock::now();
+  Received got = pull(rx, 4);  // the fourth pull ends at EOS
+  auto elapsed = Clock::now() - t0;
+  gst_element_set_state(rx, GST_STATE_NULL);
+  gst_object_unref(rx);
+  ASSERT_TRUE(got.config.has_value());
+  EXPECT_EQ(got.config->info.to_string(), "1 tensor(s): [0] int8 3:2:1:1");
+  EXPECT_EQ(got.config->rate_n, 50);
+  EXPECT_EQ(got.frames, frames);
+  EXPECT_GE(elapsed, std::chrono::milliseconds(40));  // 3 messages at 50 Hz: 2 gaps of 20 ms
+  std::filesystem::remove_all(dir);
+
+  auto bad = nns::test::run_pipeline(
+      "tensor_ros_src enable-load-rosbag=true location=" + dir + "/missing.bag ! fakesink", 10.0);
+  ASSERT_TRUE(bad.error);
+  EXPECT_NE(
+      bad.error_text.find("property 'location': cannot read the rosbag '" + dir + "/missing.bag'"),
+      std::string::npos)
+      << bad.error_text;
 }
 
 // Errors: each names the element, the topic and what was wrong.
