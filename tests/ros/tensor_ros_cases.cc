@@ -8,6 +8,11 @@
 #include <gst/app/gstappsrc.h>
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -39,6 +44,9 @@ void use_ros(const std::string &master_uri = "") {
   setenv("ROS_IP", "127.0.0.1", 1);
   unsetenv("ROS_HOSTNAME");
   setenv("PYTHONPATH", (kBuild + "/ros/python").c_str(), 1);
+  // rospy's log files go to the build tree, not ~/.ros.
+  setenv("ROS_HOME", (kBuild + "/ros-test").c_str(), 1);
+  setenv("ROS_LOG_DIR", (kBuild + "/ros-test/log").c_str(), 1);
   std::string uri = master_uri;
   if (uri.empty()) {
     std::ifstream f(kBuild + "/ros-test/master.env");
@@ -375,17 +383,30 @@ TEST(TensorRos, SrcWithoutPublisherFailsAfterTimeout) {
   EXPECT_LT(Clock::now() - t0, std::chrono::seconds(4));
 }
 
+// A loopback port nothing listens on: bound to get a free number, then closed.
+static int closed_port() {
+  int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof a;
+  bind(fd, reinterpret_cast<sockaddr *>(&a), sizeof a);
+  getsockname(fd, reinterpret_cast<sockaddr *>(&a), &len);
+  close(fd);
+  return ntohs(a.sin_port);
+}
+
 TEST(TensorRos, UnreachableMasterFailsAtOnce) {
-  // Port 9 (discard): nothing listens there on a test machine, so the connection is refused.
-  use_ros("http://127.0.0.1:9/");
+  const std::string uri = "http://127.0.0.1:" + std::to_string(closed_port()) + "/";
+  use_ros(uri);
   auto t0 = Clock::now();
   auto r = nns::test::run_pipeline(
       "appsrc caps=\"other/tensors,format=static,num_tensors=1,dimensions=4,types=uint8,"
       "framerate=0/1\" ! tensor_ros_sink topic=/nns_test/x",
       10.0);
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("tensorrossink0: ROS master http://127.0.0.1:9/ is not reachable (to "
-                              "publish topic '/nns_test/x')"),
+  EXPECT_NE(r.error_text.find("tensorrossink0: ROS master " + uri +
+                              " is not reachable (to publish topic '/nns_test/x')"),
             std::string::npos)
       << r.error_text;
   EXPECT_LT(Clock::now() - t0, std::chrono::seconds(3));
