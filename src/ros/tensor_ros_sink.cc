@@ -59,6 +59,7 @@ struct RosSinkPriv {
   nns::TensorsInfo info;
   std::vector<std::vector<nns::ros::LayoutDim>> layouts;
   bool waited = false;
+  std::atomic<bool> flushing{false};  // unlock(): stop waiting for subscribers
   GstClockTime last_signal = GST_CLOCK_TIME_NONE;
 };
 
@@ -243,6 +244,16 @@ static gboolean gst_tensor_ros_sink_event(GstBaseSink *sink, GstEvent *event) {
   return GST_BASE_SINK_CLASS(gst_tensor_ros_sink_parent_class)->event(sink, event);
 }
 
+static gboolean gst_tensor_ros_sink_unlock(GstBaseSink *sink) {
+  GST_TENSOR_ROS_SINK(sink)->priv->flushing = true;
+  return TRUE;
+}
+
+static gboolean gst_tensor_ros_sink_unlock_stop(GstBaseSink *sink) {
+  GST_TENSOR_ROS_SINK(sink)->priv->flushing = false;
+  return TRUE;
+}
+
 static gboolean gst_tensor_ros_sink_set_caps(GstBaseSink *sink, GstCaps *caps) {
   RosSinkPriv *p = GST_TENSOR_ROS_SINK(sink)->priv;
   return nns::gst::guard(sink, FALSE, [&]() -> gboolean {
@@ -264,7 +275,7 @@ static gboolean gst_tensor_ros_sink_set_caps(GstBaseSink *sink, GstCaps *caps) {
 
 // Waits (once) until `wait-subscribers` subscribers are connected, so the first frames are not
 // published before anyone listens.
-static void wait_for_subscribers(GstTensorRosSink *self) {
+static bool wait_for_subscribers(GstTensorRosSink *self) {
   RosSinkPriv *p = self->priv;
   guint want;
   {
@@ -272,9 +283,10 @@ static void wait_for_subscribers(GstTensorRosSink *self) {
     want = p->wait_subscribers;
   }
   p->waited = true;
-  if (want == 0 || !p->publisher) return;
+  if (want == 0 || !p->publisher) return true;
   const auto deadline = std::chrono::steady_clock::now() + kWaitSubscribersLimit;
   while (p->publisher->subscriber_count() < want) {
+    if (p->flushing) return false;
     if (std::chrono::steady_clock::now() > deadline)
       nns::fail(nns::ErrorKind::kStream,
                 "property 'wait-subscribers': " + std::to_string(want) +
@@ -283,6 +295,7 @@ static void wait_for_subscribers(GstTensorRosSink *self) {
                     std::to_string(kWaitSubscribersLimit.count()) + " s");
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  return true;
 }
 
 static GstFlowReturn gst_tensor_ros_sink_render(GstBaseSink *sink, GstBuffer *buf) {
@@ -293,7 +306,10 @@ static GstFlowReturn gst_tensor_ros_sink_render(GstBaseSink *sink, GstBuffer *bu
       nns::fail(nns::ErrorKind::kNegotiation,
                 "topic " + p->resolved_topic + ": buffer before caps");
     nns::gst::check_static_buffer(buf, p->info);
-    if (!p->waited) wait_for_subscribers(self);
+    if (!p->waited && !wait_for_subscribers(self)) {
+      p->waited = false;
+      return GST_FLOW_FLUSHING;
+    }
     const std::size_t n = p->info.size();
     std::vector<GstMemory *> mems(n, nullptr);
     std::vector<GstMapInfo> maps(n);
@@ -404,6 +420,8 @@ static void gst_tensor_ros_sink_class_init(GstTensorRosSinkClass *klass) {
   sink_class->stop = gst_tensor_ros_sink_stop;
   sink_class->event = gst_tensor_ros_sink_event;
   sink_class->set_caps = gst_tensor_ros_sink_set_caps;
+  sink_class->unlock = gst_tensor_ros_sink_unlock;
+  sink_class->unlock_stop = gst_tensor_ros_sink_unlock_stop;
   sink_class->render = gst_tensor_ros_sink_render;
 }
 

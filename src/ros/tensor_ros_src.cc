@@ -50,7 +50,10 @@ struct RosSrcPriv {
   std::unique_ptr<nns::ros::BagReader> bag;
   std::chrono::steady_clock::time_point next_bag_message;
   std::string resolved_topic;
-  std::optional<nns::TensorsConfig> config;  // from the first message
+  // From the first message. Written by the streaming thread (and start/stop) under config_lock;
+  // get_caps reads it from other threads under the same lock.
+  std::mutex config_lock;
+  std::optional<nns::TensorsConfig> config;
   guint64 received = 0;
 };
 
@@ -148,7 +151,10 @@ static gboolean gst_tensor_ros_src_start(GstBaseSrc *src) {
       location = p->location;
       load_rosbag = p->load_rosbag;
     }
-    p->config.reset();
+    {
+      std::lock_guard lock(p->config_lock);
+      p->config.reset();
+    }
     p->received = 0;
     p->queue.clear();
     p->queue.relock();
@@ -184,7 +190,10 @@ static gboolean gst_tensor_ros_src_stop(GstBaseSrc *src) {
     p->subscriber.reset();  // no callback runs after this
     p->bag.reset();
     p->queue.clear();
-    p->config.reset();
+    {
+      std::lock_guard lock(p->config_lock);
+      p->config.reset();
+    }
     return TRUE;
   });
 }
@@ -202,10 +211,12 @@ static gboolean gst_tensor_ros_src_unlock_stop(GstBaseSrc *src) {
 static GstCaps *gst_tensor_ros_src_get_caps(GstBaseSrc *src, GstCaps *filter) {
   RosSrcPriv *p = GST_TENSOR_ROS_SRC(src)->priv;
   GstCaps *caps = nullptr;
+  std::unique_lock lock(p->config_lock);
   if (p->config)
     caps = nns::gst::caps_from_config(*p->config);
   else
     caps = gst_pad_get_pad_template_caps(GST_BASE_SRC_PAD(src));
+  lock.unlock();
   if (filter) {
     GstCaps *both = gst_caps_intersect_full(filter, caps, GST_CAPS_INTERSECT_FIRST);
     gst_caps_unref(caps);
@@ -217,7 +228,10 @@ static GstCaps *gst_tensor_ros_src_get_caps(GstBaseSrc *src, GstCaps *filter) {
 // The caps are only known from the first message: negotiation waits for create().
 static gboolean gst_tensor_ros_src_negotiate(GstBaseSrc *src) {
   RosSrcPriv *p = GST_TENSOR_ROS_SRC(src)->priv;
-  if (!p->config) return TRUE;
+  {
+    std::lock_guard lock(p->config_lock);
+    if (!p->config) return TRUE;
+  }
   return GST_BASE_SRC_CLASS(gst_tensor_ros_src_parent_class)->negotiate(src);
 }
 
@@ -247,7 +261,10 @@ static GstBuffer *to_buffer(GstBaseSrc *src, RosSrcPriv *p, nns::ros::WireMessag
                             double rate) {
   nns::TensorsInfo info = nns::ros::info_from_wire(msg, p->resolved_topic);
   if (!p->config) {
-    p->config = config_for(info, rate);
+    {
+      std::lock_guard lock(p->config_lock);
+      p->config = config_for(info, rate);
+    }
     if (!gst_base_src_negotiate(src)) {
       GstCaps *caps = nns::gst::caps_from_config(*p->config);
       std::string text = nns::gst::caps_to_string(caps);

@@ -453,6 +453,23 @@ TEST(TensorRos, SinkDummyNeedsNoMaster) {
   gst_object_unref(p);
 }
 
+// A sink waiting for subscribers (wait-subscribers) lets the pipeline stop at once.
+TEST(TensorRos, SinkWaitingForSubscribersStopsAtOnce) {
+  use_ros();
+  GstElement *p = launch(
+      "appsrc name=in caps=\"other/tensors,format=static,num_tensors=1,dimensions=(string)4,"
+      "types=uint8,framerate=0/1\" ! tensor_ros_sink topic=/nns_test/lonely wait-subscribers=1");
+  GstElement *src = gst_bin_get_by_name(GST_BIN(p), "in");
+  gst_app_src_push_buffer(GST_APP_SRC(src), gst_buffer_new_allocate(nullptr, 4, nullptr));
+  gst_object_unref(src);
+  gst_element_set_state(p, GST_STATE_PLAYING);
+  g_usleep(300 * 1000);  // the streaming thread is now in the wait
+  auto t0 = Clock::now();
+  EXPECT_EQ(gst_element_set_state(p, GST_STATE_NULL), GST_STATE_CHANGE_SUCCESS);
+  EXPECT_LT(Clock::now() - t0, std::chrono::seconds(1));
+  gst_object_unref(p);
+}
+
 // Flexible tensors have no fixed layout to announce: refused at negotiation.
 TEST(TensorRos, SinkRefusesFlexibleTensors) {
   use_ros();
