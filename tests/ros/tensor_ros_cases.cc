@@ -466,7 +466,7 @@ TEST(TensorRos, SinkWaitingForSubscribersStopsAtOnce) {
   g_usleep(300 * 1000);  // the streaming thread is now in the wait
   auto t0 = Clock::now();
   EXPECT_EQ(gst_element_set_state(p, GST_STATE_NULL), GST_STATE_CHANGE_SUCCESS);
-  EXPECT_LT(Clock::now() - t0, std::chrono::seconds(1));
+  EXPECT_LT(Clock::now() - t0, std::chrono::seconds(3));  // not the 10 s wait (loaded CI)
   gst_object_unref(p);
 }
 
