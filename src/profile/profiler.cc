@@ -5,6 +5,7 @@
 #include "profile/profiler.h"
 
 #include <pthread.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
@@ -127,9 +128,11 @@ Params parse_params(const char *text) {
       p.sample_ms = to_int(1);
     else if (!std::strcmp(f, "cpu"))
       p.cpu_ms = to_int(1);
+    else if (!std::strcmp(f, "record"))
+      p.record = to_int(0) != 0;
     else
       err = std::string("nnsprofile: unknown parameter '") + f +
-            "' (known: file, interval, sample, cpu)";
+            "' (known: file, interval, sample, cpu, record)";
     if (!err.empty()) break;
   }
   gst_structure_free(st);
@@ -507,13 +510,16 @@ void Profiler::sample_queues() {
 bool Profiler::write_file(const char *reason) {
   std::string text = snapshot_json(reason);
   std::lock_guard<std::mutex> lk(file_mu_);
-  const std::string tmp = params_.file + ".tmp";
+  // A regular file is replaced atomically; anything else (a FIFO, /dev/null) is written in place.
+  struct stat st {};
+  const bool in_place = stat(params_.file.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+  const std::string tmp = in_place ? params_.file : params_.file + ".tmp";
   FILE *f = std::fopen(tmp.c_str(), "w");
   if (!f) return false;
   bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
   ok = std::fputc('\n', f) != EOF && ok;
   ok = std::fclose(f) == 0 && ok;
-  return ok && std::rename(tmp.c_str(), params_.file.c_str()) == 0;
+  return ok && (in_place || std::rename(tmp.c_str(), params_.file.c_str()) == 0);
 }
 
 }  // namespace nns::profile

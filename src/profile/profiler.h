@@ -116,9 +116,11 @@ struct Params {
   int interval_ms = 1000;  // 0: only at stops and at exit
   int sample_ms = 10;      // queue level sampling period
   int cpu_ms = 20;         // thread CPU clock read at most this often per thread
+  bool record = true;      // false: hooks return at once (measures GStreamer's tracing cost)
 };
 
-// Parses "file=x,interval=500,sample=5,cpu=20"; throws std::invalid_argument naming the field.
+// Parses "file=x,interval=500,sample=5,cpu=20,record=1"; throws std::invalid_argument naming the
+// field.
 Params parse_params(const char *text);
 
 class Profiler {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <time.h>
 
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -150,6 +151,35 @@ TEST(NnsProfile, FilterInvokeTimeIsTheLatencyPropertysMeasurement) {
   EXPECT_LT(mean_ms(e, "self_ns", "spans") - inv_ms, 1.0);
   // latency=1 averages the same invoke times (the last 10 of them: all here), in us.
   EXPECT_NEAR(latency_us, e["invoke_ns"].get<double>() / 10 / 1000, 1.0);
+}
+
+TEST(NnsProfile, PullModeLinksAndTheirTime) {
+  const std::string wav = make_temp_dir() + "/a.wav";
+  ASSERT_TRUE(run_pipeline("audiotestsrc num-buffers=20 samplesperbuffer=1024 ! "
+                           "audio/x-raw,format=S16LE,rate=16000,channels=1 ! wavenc ! "
+                           "filesink location=" +
+                           wav)
+                  .eos);
+  // wavparse pulls from filesrc in its own task and pushes downstream.
+  auto r = run_named("p_pull", "filesrc name=file location=" + wav +
+                                   " ! wavparse name=parse ! fakesink name=sink sync=false");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  Figures f = figures_of("p_pull");
+  ASSERT_TRUE(f.links.count("file>parse"));
+  const json &l = f.links["file>parse"];
+  EXPECT_EQ(l["mode"], "pull");
+  EXPECT_GT(l["buffers"].get<int>(), 1);
+  // Every byte of the file crossed the link (wavparse reads some chunk headers twice).
+  const auto size = std::filesystem::file_size(wav);
+  EXPECT_GT(size, 20u * 1024 * 2);
+  EXPECT_GE(l["bytes"].get<uint64_t>(), size);
+  EXPECT_LT(l["bytes"].get<uint64_t>(), size + 256);
+  EXPECT_EQ(f.elements["file"]["pulls"], l["buffers"]);
+  EXPECT_GT(f.elements["file"]["pull_ns"].get<int64_t>(), 0);
+  EXPECT_EQ(f.links["parse>sink"]["mode"], "push");
+  EXPECT_GT(f.elements["sink"]["spans"].get<int>(), 0);
+  ASSERT_EQ(f.threads.size(), 1u);
+  EXPECT_EQ(f.all["elements"][f.threads[0]["root"].get<int>()]["name"], "parse");
 }
 
 TEST(NnsProfile, WritesTheFileWhenAPipelineStops) {
