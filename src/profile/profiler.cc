@@ -207,13 +207,15 @@ void Profiler::refresh_locked(ElementRec *r, GstElement *e) {
     gst_object_unref(top);
     top = up;
   }
-  r->pipeline = top == GST_OBJECT_CAST(e) ? "" : object_name(top);
+  // An element taken out of its bin (decodebin's children at READY->NULL) keeps its pipeline.
+  if (top != GST_OBJECT_CAST(e)) r->pipeline = object_name(top);
   gst_object_unref(top);
   r->is_queue =
       g_object_class_find_property(G_OBJECT_GET_CLASS(e), "current-level-buffers") != nullptr;
   GST_OBJECT_LOCK(e);
   const guint16 nsink = e->numsinkpads, nsrc = e->numsrcpads;
   GST_OBJECT_UNLOCK(e);
+  r->is_bin = GST_IS_BIN(e);
   if (GST_IS_BIN(e))
     r->kind = "bin";
   else if (r->is_queue)
@@ -287,14 +289,39 @@ LinkRec *Profiler::link_rec(GstPad *pad, bool pull) {
 void Profiler::resolve_peer(LinkRec *l, GstPad *, GstPad *peer) {
   std::lock_guard<std::mutex> lk(mu_);
   ElementRec *to = nullptr;
+  bool forward = false;
   if (peer) {
-    if (GstElement *pe = pad_element(peer)) to = element_rec_locked(pe);
-    l->to_pad = pad_label(peer);
+    // Through bins: a ghost pad leads to its target inside, a ghost pad's internal pad to the
+    // pad outside the bin (the ghost pad's peer).
+    GstPad *real = GST_PAD_CAST(gst_object_ref(peer));
+    for (int hops = 0; hops < 16; ++hops) {
+      GstPad *next = nullptr;
+      GstObject *parent = GST_OBJECT_PARENT(real);
+      if (GST_IS_GHOST_PAD(real))
+        next = gst_ghost_pad_get_target(GST_GHOST_PAD_CAST(real));
+      else if (GST_IS_PROXY_PAD(real) && parent && GST_IS_GHOST_PAD(parent))
+        next = gst_pad_get_peer(GST_PAD_CAST(parent));
+      if (!next) break;
+      forward = true;
+      gst_object_unref(real);
+      real = next;
+    }
+    if (GstElement *pe = pad_element(real)) to = element_rec_locked(pe);
+    l->to_pad = pad_label(real);
+    gst_object_unref(real);
   } else {
     l->to_pad.clear();
   }
+  l->forward.store(forward, std::memory_order_relaxed);
   l->to.store(to, std::memory_order_relaxed);
   l->peer.store(peer, std::memory_order_relaxed);
+}
+
+// A link whose receiver is still a bin: a ghost pad without target (yet), or the outside of a
+// bin not linked when the link was first seen. Resolved again until it leads to an element.
+bool Profiler::stale(const LinkRec *l) {
+  const ElementRec *to = l->to.load(std::memory_order_relaxed);
+  return to && to->is_bin.load(std::memory_order_relaxed);
 }
 
 void Profiler::note_latency(LinkRec *l, GstBuffer *buf, int64_t ts) {
@@ -350,7 +377,8 @@ void Profiler::push_pre(int64_t ts, GstPad *pad, GstBuffer *buf, guint nbuf, uin
   ThreadRec *t = thread_rec(ts);
   LinkRec *l = link_rec(pad, false);
   GstPad *peer = GST_PAD_PEER(pad);
-  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed))) resolve_peer(l, pad, peer);
+  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed) || stale(l)))
+    resolve_peer(l, pad, peer);
   l->buffers.fetch_add(nbuf, std::memory_order_relaxed);
   l->bytes.fetch_add(bytes, std::memory_order_relaxed);
   set_first(l->first_ns, ts);
@@ -379,7 +407,9 @@ void Profiler::push_post(int64_t ts, GstPad *pad) {
   LinkRec *l = nullptr;
   int64_t dur = 0, excl = 0;
   if (!end_span(t, pad, ts, &l, &dur, &excl)) return;
-  if (ElementRec *to = l->to.load(std::memory_order_relaxed)) {
+  ElementRec *to =
+      l->forward.load(std::memory_order_relaxed) ? nullptr : l->to.load(std::memory_order_relaxed);
+  if (to) {
     to->spans.fetch_add(1, std::memory_order_relaxed);
     to->self_ns.fetch_add(excl, std::memory_order_relaxed);
     atomic_max(to->self_max, excl);
@@ -399,7 +429,8 @@ void Profiler::pull_pre(int64_t ts, GstPad *pad) {
   ThreadRec *t = thread_rec(ts);
   LinkRec *l = link_rec(pad, true);
   GstPad *peer = GST_PAD_PEER(pad);
-  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed))) resolve_peer(l, pad, peer);
+  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed) || stale(l)))
+    resolve_peer(l, pad, peer);
   begin_span(t, pad, l, ts);
   t->last_ns.store(ts, std::memory_order_relaxed);
 }
@@ -415,7 +446,9 @@ void Profiler::pull_post(int64_t ts, GstPad *pad, GstBuffer *buf) {
     set_first(l->first_ns, ts - dur);
     l->last_ns.store(ts, std::memory_order_relaxed);
   }
-  if (ElementRec *up = l->to.load(std::memory_order_relaxed)) {
+  ElementRec *up =
+      l->forward.load(std::memory_order_relaxed) ? nullptr : l->to.load(std::memory_order_relaxed);
+  if (up) {
     up->pulls.fetch_add(1, std::memory_order_relaxed);
     up->pull_ns.fetch_add(excl, std::memory_order_relaxed);
     up->self_hist.add(excl);

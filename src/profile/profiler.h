@@ -31,7 +31,8 @@ struct ElementRec {
   GWeakRef weak;  // the element, while it lives
   // Descriptive fields: written under Profiler::mu_ (creation, refresh), read under it.
   std::string name, factory, pipeline, kind;
-  bool is_queue = false;              // has current-level-buffers (queue, queue2)
+  bool is_queue = false;  // has current-level-buffers (queue, queue2)
+  std::atomic<bool> is_bin{false};
   std::atomic<bool> boundary{false};  // pushes from its src pad start a thread's stack
   // Chain spans: time inside this element's chain function minus its own downstream pushes.
   std::atomic<uint64_t> spans{0};
@@ -80,6 +81,9 @@ struct LinkRec {
   std::atomic<ElementRec *> to{nullptr};
   std::string to_pad;
   bool pull = false;  // a pull link: `from` pulls from `to`
+  // The peer is a ghost pad (or a ghost pad's internal pad): `to` is the element behind it and
+  // this span only forwards; the receiver's time is counted on the nested push.
+  std::atomic<bool> forward{false};
   std::atomic<uint64_t> buffers{0}, bytes{0};
   std::atomic<int64_t> first_ns{-1}, last_ns{-1};
   // Latency from the source push of a buffer with the same PTS, per source; `lat` is the one
@@ -151,6 +155,7 @@ class Profiler {
   ElementRec *element_rec_locked(GstElement *e);
   LinkRec *link_rec(GstPad *pad, bool pull);
   void resolve_peer(LinkRec *l, GstPad *pad, GstPad *peer);
+  static bool stale(const LinkRec *l);
   ThreadRec *thread_rec(int64_t ts);
   void refresh_locked(ElementRec *r, GstElement *e);
   void sample_cpu(ThreadRec *t, int64_t ts);

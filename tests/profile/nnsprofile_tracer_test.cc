@@ -182,6 +182,36 @@ TEST(NnsProfile, PullModeLinksAndTheirTime) {
   EXPECT_EQ(f.all["elements"][f.threads[0]["root"].get<int>()]["name"], "parse");
 }
 
+TEST(NnsProfile, LinksGoThroughBinsAndSpansAreNotCountedTwice) {
+  // identity inside a bin (ghost pads on both sides), and decodebin's dynamic children.
+  auto r = run_named("p_bin",
+                     "videotestsrc num-buffers=20 ! "
+                     "capsfilter name=cf caps=video/x-raw,width=16,height=16 ! "
+                     "bin.( identity name=inner sleep-time=2000 ) ! jpegenc name=enc ! "
+                     "decodebin ! fakesink name=sink sync=false");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  Figures f = figures_of("p_bin");
+  ASSERT_TRUE(f.elements.count("inner"));
+  EXPECT_EQ(f.elements["inner"]["spans"], 20);
+  EXPECT_GE(mean_ms(f.elements["inner"], "self_ns", "spans"), 2.0);
+  EXPECT_EQ(f.elements["enc"]["spans"], 20);
+  EXPECT_EQ(f.elements["sink"]["spans"], 20);
+  EXPECT_EQ(f.links["cf>inner"]["buffers"], 20) << f.all.dump();
+  EXPECT_EQ(f.links["inner>enc"]["buffers"], 20);
+  // enc -> decodebin's typefind -> ... -> sink: a chain of element-to-element links.
+  ASSERT_TRUE(f.links.count("enc>typefind"));
+  std::string at = "typefind";
+  for (int hop = 0; hop < 5 && at != "sink"; ++hop) {
+    std::string next;
+    for (const auto &[k, l] : f.links)
+      if (k.rfind(at + ">", 0) == 0) next = k.substr(at.size() + 1);
+    ASSERT_FALSE(next.empty()) << "no link out of " << at;
+    EXPECT_EQ(f.elements[next]["spans"], 20) << next;
+    at = next;
+  }
+  EXPECT_EQ(at, "sink");
+}
+
 TEST(NnsProfile, WritesTheFileWhenAPipelineStops) {
   const std::string file = profile_file();
   auto r = run_named("p_file", "videotestsrc num-buffers=5 ! fakesink name=file_sink");
