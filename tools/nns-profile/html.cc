@@ -120,7 +120,9 @@ std::string html_page(const Report &r) {
     << "</p>\n";
 
   o << "<h2>Pipeline</h2><svg id=\"graph\" width=\"" << W << "\" height=\"" << H
-    << "\" xmlns=\"http://www.w3.org/2000/svg\"><defs><marker id=\"arrow\" viewBox=\"0 0 10 10\" "
+    << "\" viewBox=\"0 0 " << W << " " << H
+    << "\" style=\"max-width:100%;height:auto\" xmlns=\"http://www.w3.org/2000/svg\"><defs><marker "
+       "id=\"arrow\" viewBox=\"0 0 10 10\" "
        "refX=\"10\" refY=\"5\" markerWidth=\"7\" markerHeight=\"7\" orient=\"auto\"><path d=\"M0,0"
        "L10,5L0,10z\" fill=\"#555\"/></marker></defs>\n";
   for (const auto &k : r.links) {

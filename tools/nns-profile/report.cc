@@ -263,10 +263,20 @@ std::string text_table(const Report &r) {
     if (!e.queue.is_null()) {
       if (!any) o << "\nqueues:\n";
       any = true;
+      auto limit = [](const json &v, bool time) {
+        const double x = v.get<double>();
+        return x > 0 ? (time ? fmt_ns(x) : std::to_string(static_cast<long long>(x)))
+                     : std::string("none");
+      };
       std::snprintf(line, sizeof line,
-                    "  %-24s mean %.1f buffers, max %d of %d, full %s of samples, waited %s\n",
+                    "  %-24s buffers mean %.1f max %d (limit %s), time mean %s max %s (limit "
+                    "%s), at a limit in %s of samples, waited %s\n",
                     e.name.c_str(), e.queue["mean_buffers"].get<double>(),
-                    e.queue["max_buffers"].get<int>(), e.queue["max_size_buffers"].get<int>(),
+                    e.queue["max_buffers"].get<int>(),
+                    limit(e.queue["max_size_buffers"], false).c_str(),
+                    fmt_ns(e.queue["mean_time_ns"].get<double>()).c_str(),
+                    fmt_ns(e.queue["max_time_ns"].get<double>()).c_str(),
+                    limit(e.queue["max_size_time_ns"], true).c_str(),
                     pct(e.queue["full_share"].get<double>()).c_str(),
                     fmt_ns(static_cast<double>(e.wait_ns)).c_str());
       o << line;
