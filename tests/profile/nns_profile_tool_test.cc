@@ -123,16 +123,19 @@ TEST_F(NnsProfileTool, NamesTheSleepingIdentityAsBottleneck) {
   EXPECT_EQ(el["conv"]["buffers"], 50);
   EXPECT_EQ(el["out"]["buffers"], 50);
   EXPECT_GT(el["slow"]["share"].get<double>(), 0.9);
-  EXPECT_GE(el["slow"]["per_buffer_ns"].get<double>(), 4e6);
-  EXPECT_LT(el["slow"]["per_buffer_ns"].get<double>(), 8e6);
+  // At least the 4 ms sleep; one thread, so per buffer at most the run's time per buffer.
+  const double per = el["slow"]["per_buffer_ns"].get<double>();
+  EXPECT_GE(per, 4e6);
+  EXPECT_LE(per * 50, j["duration_ns"].get<double>() + 1e6);
   EXPECT_GT(el["slow"]["busy"].get<double>(), 0.8);
+  EXPECT_LE(el["slow"]["busy"].get<double>(), 1.02);
   bool sink_latency = false;
   for (const auto &l : j["links"])
     if (l["to_sink"].get<bool>()) {
       sink_latency = true;
       EXPECT_EQ(l["latency"]["count"], 50);
-      EXPECT_GE(l["latency"]["mean_ns"].get<double>(), 4e6);
-      EXPECT_LT(l["latency"]["mean_ns"].get<double>(), 30e6);
+      EXPECT_GE(l["latency"]["mean_ns"].get<double>(), per);
+      EXPECT_LT(l["latency"]["mean_ns"].get<double>(), per + 5e6);
     }
   EXPECT_TRUE(sink_latency);
   const std::string html = slurp(dir_ + "/r.html");

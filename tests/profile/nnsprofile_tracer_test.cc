@@ -20,7 +20,8 @@ namespace {
 
 TEST(NnsProfile, SleepingIdentityOwnsItsTimeAndCountsAreExact) {
   auto r = run_named("p_sleep",
-                     "videotestsrc num-buffers=40 ! video/x-raw,format=GRAY8,width=16,height=16 ! "
+                     "videotestsrc num-buffers=40 ! "
+                     "capsfilter name=cf caps=video/x-raw,format=GRAY8,width=16,height=16 ! "
                      "identity name=slow sleep-time=4000 ! identity name=fast ! "
                      "fakesink name=out sync=false");
   ASSERT_TRUE(r.eos) << r.error_text;
@@ -32,11 +33,16 @@ TEST(NnsProfile, SleepingIdentityOwnsItsTimeAndCountsAreExact) {
   EXPECT_EQ(f.elements["out"]["spans"], 40);
   EXPECT_EQ(slow["kind"], "filter");
   EXPECT_EQ(f.elements["out"]["kind"], "sink");
-  // sleep-time=4000 us: at least 4 ms per buffer, at most 4 ms plus scheduling slack.
+  // sleep-time=4000 us: at least 4 ms per buffer; all in one thread, so the spans cannot add up
+  // to more than the run (first to last buffer on the sink link, plus the last span).
   const double slow_ms = mean_ms(slow, "self_ns", "spans");
   EXPECT_GE(slow_ms, 4.0);
-  EXPECT_LT(slow_ms, 8.0);
-  EXPECT_LT(mean_ms(fast, "self_ns", "spans"), 1.0);
+  const json &sink_link = f.links["fast>out"];
+  const double run_ms =
+      (sink_link["last_ns"].get<double>() - f.links["cf>slow"]["first_ns"].get<double>()) / 1e6;
+  EXPECT_LE(slow_ms * 40, run_ms + 1.0);
+  EXPECT_GT(slow_ms * 40, 0.8 * run_ms);  // and it is most of the run
+  EXPECT_LT(mean_ms(fast, "self_ns", "spans"), 0.25 * slow_ms);
   // The slow identity's downstream work is not part of its own time, and the histogram holds
   // every span.
   uint64_t in_hist = 0;
@@ -52,8 +58,8 @@ TEST(NnsProfile, SleepingIdentityOwnsItsTimeAndCountsAreExact) {
   const json &to_sink = f.links["fast>out"];
   EXPECT_EQ(to_sink["latency"]["count"], 40);
   const double lat_ms = mean_ms(to_sink["latency"], "total_ns", "count");
-  EXPECT_GE(lat_ms, 4.0);
-  EXPECT_LT(lat_ms, 20.0);
+  EXPECT_GE(lat_ms, slow_ms);  // the sleep is on the way from the source to the sink
+  EXPECT_LT(lat_ms, slow_ms + 5.0);
   ASSERT_EQ(to_sink["latency_by_source"].size(), 1u);
   const int src_id = to_sink["latency_by_source"][0]["source"].get<int>();
   EXPECT_EQ(f.all["elements"][src_id]["factory"], "videotestsrc");
@@ -145,10 +151,10 @@ TEST(NnsProfile, FilterInvokeTimeIsTheLatencyPropertysMeasurement) {
   EXPECT_EQ(e["spans"], 10);
   const double inv_ms = mean_ms(e, "invoke_ns", "invokes");
   EXPECT_GE(inv_ms, 3.0);
-  EXPECT_LT(inv_ms, 6.0);
-  // The element's own time holds the invoke and a little more.
+  EXPECT_LT(inv_ms, 40.0);
+  // The element's own time holds the invoke and a little more (the invoke is most of it).
   EXPECT_GE(e["self_ns"].get<int64_t>(), e["invoke_ns"].get<int64_t>());
-  EXPECT_LT(mean_ms(e, "self_ns", "spans") - inv_ms, 1.0);
+  EXPECT_GT(inv_ms, 0.7 * mean_ms(e, "self_ns", "spans"));
   // latency=1 averages the same invoke times (the last 10 of them: all here), in us.
   EXPECT_NEAR(latency_us, e["invoke_ns"].get<double>() / 10 / 1000, 1.0);
 }
