@@ -193,11 +193,13 @@ std::string html_page(const Report &r) {
     o << hist_svg(e.hist, e.name + ": own time per buffer");
     o << hist_svg(e.invoke_hist, e.name + ": invoke time");
   }
+  o << "<h2>End-to-end latency</h2>\n";
   for (const auto &k : r.links)
     if (k.to_sink && k.latency_count)
-      o << "<p>End-to-end latency to " << esc(names[k.to]) << ": mean " << fmt_ns(k.latency_mean_ns)
-        << ", p99 " << fmt_ns(static_cast<double>(k.latency_q.p99)) << ", max "
-        << fmt_ns(static_cast<double>(k.latency_max_ns)) << "</p>\n";
+      o << "<p>Source to " << esc(names[k.to]) << ": mean " << fmt_ns(k.latency_mean_ns) << ", p99 "
+        << fmt_ns(static_cast<double>(k.latency_q.p99)) << ", max "
+        << fmt_ns(static_cast<double>(k.latency_max_ns)) << "</p>\n"
+        << hist_svg(k.latency_hist, "latency from the source to " + names[k.to]);
 
   // Click a column header to sort its table.
   o << "<script>\n"

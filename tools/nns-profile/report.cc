@@ -129,7 +129,8 @@ Report analyse(const json &trace, const std::string &pipeline, const std::string
       k.latency_mean_ns = static_cast<double>(num(lat, "total_ns")) / k.latency_count;
       k.latency_min_ns = num(lat, "min_ns");
       k.latency_max_ns = num(lat, "max_ns");
-      k.latency_q = quantiles(hist_of(l["latency_hist"]));
+      k.latency_hist = hist_of(l["latency_hist"]);
+      k.latency_q = quantiles(k.latency_hist);
     }
     k.to_sink = kind_of[to] == "sink";
     r.links.push_back(std::move(k));
@@ -348,7 +349,8 @@ json report_json(const Report &r) {
                                           {"mean_ns", k.latency_mean_ns},
                                           {"min_ns", k.latency_min_ns},
                                           {"max_ns", k.latency_max_ns},
-                                          {"quantiles", quant_json(k.latency_q)}}}});
+                                          {"quantiles", quant_json(k.latency_q)},
+                                          {"hist", hist_json(k.latency_hist)}}}});
   j["links"] = std::move(links);
   json th = json::array();
   for (const auto &t : r.threads)

@@ -46,6 +46,7 @@ struct Link {
   double latency_mean_ns = -1;
   int64_t latency_min_ns = -1, latency_max_ns = -1;
   Quantiles latency_q;
+  std::vector<std::pair<int64_t, uint64_t>> latency_hist;
   bool to_sink = false;
 };
 
