@@ -159,6 +159,10 @@ TEST(NnsProfileReport, TextTableJsonAndHtmlCarryTheFigures) {
         "per_buffer_ns", "max_ns", "quantiles", "hist", "in_rate", "out_rate", "invokes"})
     EXPECT_TRUE(j["elements"][0].contains(k)) << k;
   EXPECT_DOUBLE_EQ(j["elements"][0]["invoke"]["share_of_busy"].get<double>(), 2.0 / 3.0);
+  ASSERT_EQ(j["sinks"].size(), 1u);
+  EXPECT_EQ(j["sinks"][0]["name"], "out");
+  EXPECT_DOUBLE_EQ(j["sinks"][0]["latency_mean_ns"].get<double>(), 5000000);
+  EXPECT_TRUE(j["process"].is_null());  // only when the tool ran the pipeline
   for (const char *k : {"from", "to", "from_pad", "to_pad", "mode", "buffers", "bytes", "rate",
                         "bytes_rate", "to_sink", "latency"})
     EXPECT_TRUE(j["links"][0].contains(k)) << k;

@@ -246,6 +246,15 @@ std::string text_table(const Report &r) {
     o << line;
   }
   o << "\n" << r.bottleneck_text << "\n";
+  if (r.process.is_object()) {
+    std::snprintf(line, sizeof line,
+                  "process: CPU %s in %s wall (%s of one core), max RSS %.1f MiB\n",
+                  fmt_ns(r.process["cpu_ns"].get<double>()).c_str(),
+                  fmt_ns(r.process["wall_ns"].get<double>()).c_str(),
+                  pct(r.process["cpu_share"].get<double>()).c_str(),
+                  r.process["max_rss_kb"].get<double>() / 1024);
+    o << line;
+  }
   bool any = false;
   for (const auto &k : r.links)
     if (k.to_sink && k.latency_count) {
@@ -362,6 +371,21 @@ json report_json(const Report &r) {
                       {"cpu_share", t.cpu_share},
                       {"pushes", t.pushes}});
   j["threads"] = std::move(th);
+  // Per sink: what arrived, how fast, and how late.
+  std::map<int, std::string> names;
+  for (const auto &e : r.elements) names[e.id] = e.name;
+  json sinks = json::array();
+  for (const auto &k : r.links)
+    if (k.to_sink)
+      sinks.push_back(json{{"name", names[k.to]},
+                           {"buffers", k.buffers},
+                           {"rate", k.rate},
+                           {"latency_mean_ns", k.latency_mean_ns},
+                           {"latency_p50_ns", k.latency_q.p50},
+                           {"latency_p99_ns", k.latency_q.p99},
+                           {"latency_max_ns", k.latency_max_ns}});
+  j["sinks"] = std::move(sinks);
+  j["process"] = r.process;
   return j;
 }
 

@@ -67,6 +67,9 @@ struct Report {
   std::vector<Thread> threads;
   int bottleneck = -1;  // index in elements, -1 when nothing ran
   std::string bottleneck_text;
+  // Set by the tool when it ran the pipeline itself: cpu_ns (user + system of the whole
+  // process during the run), wall_ns, cpu_share, max_rss_kb. Null otherwise.
+  nlohmann::json process;
 };
 
 // Builds the report from a tracer output object. `pipeline`: only elements of that top-level
