@@ -145,6 +145,18 @@ Profiler::Profiler(Params p) : params_(std::move(p)), generation_(g_generation.f
   q_elem_ = g_quark_from_string(("nnsprofile-element-" + g).c_str());
   q_link_ = g_quark_from_string(("nnsprofile-link-" + g).c_str());
   if (params_.file.empty()) params_.file = "nnsprofile-" + std::to_string(getpid()) + ".json";
+  // The invoke times also as standard tracer log records (GST_DEBUG=GST_TRACER:7), as the core
+  // tracers log theirs: "nnsprofile-invoke, element=(string)tf, time=(guint64)1234;".
+  invoke_log_ = gst_tracer_record_new(
+      "nnsprofile-invoke.class", "element", GST_TYPE_STRUCTURE,
+      gst_structure_new("scope", "type", G_TYPE_GTYPE, G_TYPE_STRING, "related-to",
+                        GST_TYPE_TRACER_VALUE_SCOPE, GST_TRACER_VALUE_SCOPE_ELEMENT, nullptr),
+      "time", GST_TYPE_STRUCTURE,
+      gst_structure_new("value", "type", G_TYPE_GTYPE, G_TYPE_UINT64, "description", G_TYPE_STRING,
+                        "tensor_filter invoke time in ns", "min", G_TYPE_UINT64,
+                        G_GUINT64_CONSTANT(0), "max", G_TYPE_UINT64, G_MAXUINT64, nullptr),
+      nullptr);
+  GST_OBJECT_FLAG_SET(invoke_log_, GST_OBJECT_FLAG_MAY_BE_LEAKED);
 }
 
 Profiler::~Profiler() {
@@ -156,6 +168,7 @@ Profiler::~Profiler() {
   if (sampler_.joinable()) sampler_.join();
   if (sampler_started_) write_file("exit");
   for (auto &e : elements_) g_weak_ref_clear(&e->weak);
+  if (invoke_log_) gst_object_unref(invoke_log_);
 }
 
 int64_t Profiler::now_ts() const {
@@ -483,6 +496,8 @@ void Profiler::invoke(GstElement *e, int64_t dur_ns) {
   r->invoke_ns.fetch_add(dur_ns, std::memory_order_relaxed);
   atomic_max(r->invoke_max, dur_ns);
   r->invoke_hist.add(dur_ns);
+  // Formats only when GST_TRACER logs at TRACE level (checked inside).
+  gst_tracer_record_log(invoke_log_, GST_OBJECT_NAME(e), static_cast<guint64>(dur_ns));
 }
 
 void Profiler::start_sampler() {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <gst/gst.h>
+#include <gst/gsttracerrecord.h>
 #include <sys/types.h>
 
 #include <array>
@@ -168,6 +169,7 @@ class Profiler {
   int64_t now_ts() const;
 
   Params params_;
+  GstTracerRecord *invoke_log_ = nullptr;  // "nnsprofile-invoke" lines (GST_TRACER at TRACE)
   uint64_t generation_;
   GQuark q_elem_, q_link_;
   std::mutex mu_;  // record creation, descriptive strings, queue figures

@@ -7,6 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <vector>
 #include <stdexcept>
 
 #include <cstring>
@@ -131,12 +133,32 @@ TEST(NnsProfile, FilterInvokeTimeIsTheLatencyPropertysMeasurement) {
   ASSERT_TRUE(p);
   gst_object_set_name(GST_OBJECT(p), "p_filter");
   GstElement *tf = gst_bin_get_by_name(GST_BIN(p), "tf");
+  // The invokes are also logged as "nnsprofile-invoke" tracer records.
+  struct Lines {
+    std::mutex mu;
+    std::vector<std::string> v;
+  } lines;
+  auto capture = [](GstDebugCategory *cat, GstDebugLevel, const gchar *, const gchar *, gint,
+                    GObject *, GstDebugMessage *msg, gpointer data) {
+    const char *text = gst_debug_message_get(msg);
+    if (std::strcmp(gst_debug_category_get_name(cat), "GST_TRACER") || !text ||
+        !std::strstr(text, "nnsprofile-invoke"))
+      return;
+    auto *l = static_cast<Lines *>(data);
+    std::lock_guard<std::mutex> lk(l->mu);
+    l->v.emplace_back(text);
+  };
+  gst_debug_set_threshold_for_name("GST_TRACER", GST_LEVEL_TRACE);
+  const GstLogFunction capture_fn = capture;
+  gst_debug_add_log_function(capture_fn, &lines, nullptr);
   gst_element_set_state(p, GST_STATE_PLAYING);
   GstBus *bus = gst_element_get_bus(p);
   GstMessage *m = gst_bus_timed_pop_filtered(
       bus, 20 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
   ASSERT_TRUE(m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_EOS);
   gst_message_unref(m);
+  gst_debug_remove_log_function(capture_fn);
+  gst_debug_set_threshold_for_name("GST_TRACER", GST_LEVEL_NONE);
   gint latency_us = -1;
   g_object_get(tf, "latency", &latency_us, nullptr);
   Figures f = figures_of("p_filter");
@@ -155,6 +177,10 @@ TEST(NnsProfile, FilterInvokeTimeIsTheLatencyPropertysMeasurement) {
   // The element's own time holds the invoke and a little more (the invoke is most of it).
   EXPECT_GE(e["self_ns"].get<int64_t>(), e["invoke_ns"].get<int64_t>());
   EXPECT_GT(inv_ms, 0.7 * mean_ms(e, "self_ns", "spans"));
+  ASSERT_EQ(lines.v.size(), 10u);
+  EXPECT_NE(lines.v[0].find("nnsprofile-invoke, element=(string)tf, time=(guint64)"),
+            std::string::npos)
+      << lines.v[0];
   // latency=1 averages the same invoke times (the last 10 of them: all here), in us.
   EXPECT_NEAR(latency_us, e["invoke_ns"].get<double>() / 10 / 1000, 1.0);
 }
