@@ -4,6 +4,9 @@
 // in it is the receiving element's own time for that buffer.
 #include "profile/profiler.h"
 
+#include <gst/base/gstbasesink.h>
+#include <gst/base/gstbasesrc.h>
+
 #include <pthread.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
@@ -229,6 +232,8 @@ void Profiler::refresh_locked(ElementRec *r, GstElement *e) {
   const guint16 nsink = e->numsinkpads, nsrc = e->numsrcpads;
   GST_OBJECT_UNLOCK(e);
   r->is_bin = GST_IS_BIN(e);
+  r->clock_wait = (GST_IS_BASE_SRC(e) && gst_base_src_is_live(GST_BASE_SRC_CAST(e))) ||
+                  (GST_IS_BASE_SINK(e) && gst_base_sink_get_sync(GST_BASE_SINK_CAST(e)));
   if (GST_IS_BIN(e))
     r->kind = "bin";
   else if (r->is_queue)

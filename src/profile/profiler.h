@@ -34,6 +34,7 @@ struct ElementRec {
   std::string name, factory, pipeline, kind;
   bool is_queue = false;  // has current-level-buffers (queue, queue2)
   std::atomic<bool> is_bin{false};
+  bool clock_wait = false;  // a live source or a sink with sync=true: its time includes waits
   std::atomic<bool> boundary{false};  // pushes from its src pad start a thread's stack
   // Chain spans: time inside this element's chain function minus its own downstream pushes.
   std::atomic<uint64_t> spans{0};

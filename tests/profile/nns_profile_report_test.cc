@@ -174,6 +174,25 @@ TEST(NnsProfileReport, TextTableJsonAndHtmlCarryTheFigures) {
   EXPECT_EQ(html.find("href="), std::string::npos);
 }
 
+TEST(NnsProfileReport, ClockWaitersAreNotTheBottleneckWhenSomethingElseWorked) {
+  json t = trace();
+  t["elements"][3]["clock_wait"] = true;  // out: a sync=true sink, busy 90 % waiting
+  t["elements"][3]["self_ns"] = 900000000;
+  rp::Report r = rp::analyse(t, "p", "test");
+  ASSERT_GE(r.bottleneck, 0);
+  EXPECT_EQ(r.elements[static_cast<std::size_t>(r.bottleneck)].name, "work");
+  EXPECT_EQ(r.elements[0].name, "out");  // still first by share
+  const std::string text = rp::text_table(r);
+  EXPECT_NE(text.find(" sink*  "), std::string::npos) << text;
+  EXPECT_NE(text.find("* live source or sync=true sink"), std::string::npos);
+  // With nothing else working, it is named, with the caveat.
+  t["elements"][1]["self_ns"] = 0;
+  t["elements"][0]["gap_ns"] = 0;
+  r = rp::analyse(t, "p", "test");
+  EXPECT_NE(r.bottleneck_text.find("bottleneck: out (fakesink)"), std::string::npos);
+  EXPECT_NE(r.bottleneck_text.find("(includes waiting for the clock)"), std::string::npos);
+}
+
 TEST(NnsProfileReport, RejectsOtherJson) {
   try {
     rp::analyse(json{{"format", "other"}}, "", "x");

@@ -35,6 +35,7 @@ TEST(NnsProfile, SleepingIdentityOwnsItsTimeAndCountsAreExact) {
   EXPECT_EQ(f.elements["out"]["spans"], 40);
   EXPECT_EQ(slow["kind"], "filter");
   EXPECT_EQ(f.elements["out"]["kind"], "sink");
+  EXPECT_FALSE(f.elements["out"]["clock_wait"].get<bool>());  // sync=false
   // sleep-time=4000 us: at least 4 ms per buffer; all in one thread, so the spans cannot add up
   // to more than the run (first to last buffer on the sink link, plus the last span).
   const double slow_ms = mean_ms(slow, "self_ns", "spans");
@@ -242,6 +243,18 @@ TEST(NnsProfile, LinksGoThroughBinsAndSpansAreNotCountedTwice) {
     at = next;
   }
   EXPECT_EQ(at, "sink");
+}
+
+TEST(NnsProfile, LiveSourcesAndSyncSinksAreFlagged) {
+  auto r = run_named("p_live",
+                     "videotestsrc name=live is-live=true num-buffers=3 ! "
+                     "video/x-raw,width=8,height=8,framerate=100/1 ! "
+                     "fakesink name=synced sync=true");
+  ASSERT_TRUE(r.eos) << r.error_text;
+  Figures f = figures_of("p_live");
+  EXPECT_TRUE(f.elements["live"]["clock_wait"].get<bool>());
+  EXPECT_TRUE(f.elements["synced"]["clock_wait"].get<bool>());
+  EXPECT_EQ(f.elements["synced"]["spans"], 3);
 }
 
 TEST(NnsProfile, WritesTheFileWhenAPipelineStops) {

@@ -18,6 +18,7 @@ struct Quantiles {
 struct Element {
   int id = -1;
   std::string name, factory, kind;
+  bool clock_wait = false;   // live source / sync=true sink: busy_ns includes clock waits
   uint64_t buffers = 0;      // buffers this element handled (received, or produced by a source)
   int64_t busy_ns = 0;       // own working time (queues: 0, see wait_ns)
   int64_t wait_ns = 0;       // queues: time blocked or waiting (not work)
