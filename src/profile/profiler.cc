@@ -4,7 +4,11 @@
 // in it is the receiving element's own time for that buffer.
 #include "profile/profiler.h"
 
+#include <gst/base/gstbasesink.h>
+#include <gst/base/gstbasesrc.h>
+
 #include <pthread.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <time.h>
 #include <unistd.h>
@@ -127,9 +131,11 @@ Params parse_params(const char *text) {
       p.sample_ms = to_int(1);
     else if (!std::strcmp(f, "cpu"))
       p.cpu_ms = to_int(1);
+    else if (!std::strcmp(f, "record"))
+      p.record = to_int(0) != 0;
     else
       err = std::string("nnsprofile: unknown parameter '") + f +
-            "' (known: file, interval, sample, cpu)";
+            "' (known: file, interval, sample, cpu, record)";
     if (!err.empty()) break;
   }
   gst_structure_free(st);
@@ -142,6 +148,18 @@ Profiler::Profiler(Params p) : params_(std::move(p)), generation_(g_generation.f
   q_elem_ = g_quark_from_string(("nnsprofile-element-" + g).c_str());
   q_link_ = g_quark_from_string(("nnsprofile-link-" + g).c_str());
   if (params_.file.empty()) params_.file = "nnsprofile-" + std::to_string(getpid()) + ".json";
+  // The invoke times also as standard tracer log records (GST_DEBUG=GST_TRACER:7), as the core
+  // tracers log theirs: "nnsprofile-invoke, element=(string)tf, time=(guint64)1234;".
+  invoke_log_ = gst_tracer_record_new(
+      "nnsprofile-invoke.class", "element", GST_TYPE_STRUCTURE,
+      gst_structure_new("scope", "type", G_TYPE_GTYPE, G_TYPE_STRING, "related-to",
+                        GST_TYPE_TRACER_VALUE_SCOPE, GST_TRACER_VALUE_SCOPE_ELEMENT, nullptr),
+      "time", GST_TYPE_STRUCTURE,
+      gst_structure_new("value", "type", G_TYPE_GTYPE, G_TYPE_UINT64, "description", G_TYPE_STRING,
+                        "tensor_filter invoke time in ns", "min", G_TYPE_UINT64,
+                        G_GUINT64_CONSTANT(0), "max", G_TYPE_UINT64, G_MAXUINT64, nullptr),
+      nullptr);
+  GST_OBJECT_FLAG_SET(invoke_log_, GST_OBJECT_FLAG_MAY_BE_LEAKED);
 }
 
 Profiler::~Profiler() {
@@ -153,6 +171,7 @@ Profiler::~Profiler() {
   if (sampler_.joinable()) sampler_.join();
   if (sampler_started_) write_file("exit");
   for (auto &e : elements_) g_weak_ref_clear(&e->weak);
+  if (invoke_log_) gst_object_unref(invoke_log_);
 }
 
 int64_t Profiler::now_ts() const {
@@ -204,13 +223,17 @@ void Profiler::refresh_locked(ElementRec *r, GstElement *e) {
     gst_object_unref(top);
     top = up;
   }
-  r->pipeline = top == GST_OBJECT_CAST(e) ? "" : object_name(top);
+  // An element taken out of its bin (decodebin's children at READY->NULL) keeps its pipeline.
+  if (top != GST_OBJECT_CAST(e)) r->pipeline = object_name(top);
   gst_object_unref(top);
   r->is_queue =
       g_object_class_find_property(G_OBJECT_GET_CLASS(e), "current-level-buffers") != nullptr;
   GST_OBJECT_LOCK(e);
   const guint16 nsink = e->numsinkpads, nsrc = e->numsrcpads;
   GST_OBJECT_UNLOCK(e);
+  r->is_bin = GST_IS_BIN(e);
+  r->clock_wait = (GST_IS_BASE_SRC(e) && gst_base_src_is_live(GST_BASE_SRC_CAST(e))) ||
+                  (GST_IS_BASE_SINK(e) && gst_base_sink_get_sync(GST_BASE_SINK_CAST(e)));
   if (GST_IS_BIN(e))
     r->kind = "bin";
   else if (r->is_queue)
@@ -284,14 +307,39 @@ LinkRec *Profiler::link_rec(GstPad *pad, bool pull) {
 void Profiler::resolve_peer(LinkRec *l, GstPad *, GstPad *peer) {
   std::lock_guard<std::mutex> lk(mu_);
   ElementRec *to = nullptr;
+  bool forward = false;
   if (peer) {
-    if (GstElement *pe = pad_element(peer)) to = element_rec_locked(pe);
-    l->to_pad = pad_label(peer);
+    // Through bins: a ghost pad leads to its target inside, a ghost pad's internal pad to the
+    // pad outside the bin (the ghost pad's peer).
+    GstPad *real = GST_PAD_CAST(gst_object_ref(peer));
+    for (int hops = 0; hops < 16; ++hops) {
+      GstPad *next = nullptr;
+      GstObject *parent = GST_OBJECT_PARENT(real);
+      if (GST_IS_GHOST_PAD(real))
+        next = gst_ghost_pad_get_target(GST_GHOST_PAD_CAST(real));
+      else if (GST_IS_PROXY_PAD(real) && parent && GST_IS_GHOST_PAD(parent))
+        next = gst_pad_get_peer(GST_PAD_CAST(parent));
+      if (!next) break;
+      forward = true;
+      gst_object_unref(real);
+      real = next;
+    }
+    if (GstElement *pe = pad_element(real)) to = element_rec_locked(pe);
+    l->to_pad = pad_label(real);
+    gst_object_unref(real);
   } else {
     l->to_pad.clear();
   }
+  l->forward.store(forward, std::memory_order_relaxed);
   l->to.store(to, std::memory_order_relaxed);
   l->peer.store(peer, std::memory_order_relaxed);
+}
+
+// A link whose receiver is still a bin: a ghost pad without target (yet), or the outside of a
+// bin not linked when the link was first seen. Resolved again until it leads to an element.
+bool Profiler::stale(const LinkRec *l) {
+  const ElementRec *to = l->to.load(std::memory_order_relaxed);
+  return to && to->is_bin.load(std::memory_order_relaxed);
 }
 
 void Profiler::note_latency(LinkRec *l, GstBuffer *buf, int64_t ts) {
@@ -347,7 +395,8 @@ void Profiler::push_pre(int64_t ts, GstPad *pad, GstBuffer *buf, guint nbuf, uin
   ThreadRec *t = thread_rec(ts);
   LinkRec *l = link_rec(pad, false);
   GstPad *peer = GST_PAD_PEER(pad);
-  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed))) resolve_peer(l, pad, peer);
+  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed) || stale(l)))
+    resolve_peer(l, pad, peer);
   l->buffers.fetch_add(nbuf, std::memory_order_relaxed);
   l->bytes.fetch_add(bytes, std::memory_order_relaxed);
   set_first(l->first_ns, ts);
@@ -376,7 +425,9 @@ void Profiler::push_post(int64_t ts, GstPad *pad) {
   LinkRec *l = nullptr;
   int64_t dur = 0, excl = 0;
   if (!end_span(t, pad, ts, &l, &dur, &excl)) return;
-  if (ElementRec *to = l->to.load(std::memory_order_relaxed)) {
+  ElementRec *to =
+      l->forward.load(std::memory_order_relaxed) ? nullptr : l->to.load(std::memory_order_relaxed);
+  if (to) {
     to->spans.fetch_add(1, std::memory_order_relaxed);
     to->self_ns.fetch_add(excl, std::memory_order_relaxed);
     atomic_max(to->self_max, excl);
@@ -396,7 +447,8 @@ void Profiler::pull_pre(int64_t ts, GstPad *pad) {
   ThreadRec *t = thread_rec(ts);
   LinkRec *l = link_rec(pad, true);
   GstPad *peer = GST_PAD_PEER(pad);
-  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed))) resolve_peer(l, pad, peer);
+  if (G_UNLIKELY(peer != l->peer.load(std::memory_order_relaxed) || stale(l)))
+    resolve_peer(l, pad, peer);
   begin_span(t, pad, l, ts);
   t->last_ns.store(ts, std::memory_order_relaxed);
 }
@@ -412,7 +464,9 @@ void Profiler::pull_post(int64_t ts, GstPad *pad, GstBuffer *buf) {
     set_first(l->first_ns, ts - dur);
     l->last_ns.store(ts, std::memory_order_relaxed);
   }
-  if (ElementRec *up = l->to.load(std::memory_order_relaxed)) {
+  ElementRec *up =
+      l->forward.load(std::memory_order_relaxed) ? nullptr : l->to.load(std::memory_order_relaxed);
+  if (up) {
     up->pulls.fetch_add(1, std::memory_order_relaxed);
     up->pull_ns.fetch_add(excl, std::memory_order_relaxed);
     up->self_hist.add(excl);
@@ -447,6 +501,8 @@ void Profiler::invoke(GstElement *e, int64_t dur_ns) {
   r->invoke_ns.fetch_add(dur_ns, std::memory_order_relaxed);
   atomic_max(r->invoke_max, dur_ns);
   r->invoke_hist.add(dur_ns);
+  // Formats only when GST_TRACER logs at TRACE level (checked inside).
+  gst_tracer_record_log(invoke_log_, GST_OBJECT_NAME(e), static_cast<guint64>(dur_ns));
 }
 
 void Profiler::start_sampler() {
@@ -507,13 +563,16 @@ void Profiler::sample_queues() {
 bool Profiler::write_file(const char *reason) {
   std::string text = snapshot_json(reason);
   std::lock_guard<std::mutex> lk(file_mu_);
-  const std::string tmp = params_.file + ".tmp";
+  // A regular file is replaced atomically; anything else (a FIFO, /dev/null) is written in place.
+  struct stat st {};
+  const bool in_place = stat(params_.file.c_str(), &st) == 0 && !S_ISREG(st.st_mode);
+  const std::string tmp = in_place ? params_.file : params_.file + ".tmp";
   FILE *f = std::fopen(tmp.c_str(), "w");
   if (!f) return false;
   bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
   ok = std::fputc('\n', f) != EOF && ok;
   ok = std::fclose(f) == 0 && ok;
-  return ok && std::rename(tmp.c_str(), params_.file.c_str()) == 0;
+  return ok && (in_place || std::rename(tmp.c_str(), params_.file.c_str()) == 0);
 }
 
 }  // namespace nns::profile

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <gst/gst.h>
+#include <gst/gsttracerrecord.h>
 #include <sys/types.h>
 
 #include <array>
@@ -31,7 +32,9 @@ struct ElementRec {
   GWeakRef weak;  // the element, while it lives
   // Descriptive fields: written under Profiler::mu_ (creation, refresh), read under it.
   std::string name, factory, pipeline, kind;
-  bool is_queue = false;              // has current-level-buffers (queue, queue2)
+  bool is_queue = false;  // has current-level-buffers (queue, queue2)
+  std::atomic<bool> is_bin{false};
+  bool clock_wait = false;  // a live source or a sink with sync=true: its time includes waits
   std::atomic<bool> boundary{false};  // pushes from its src pad start a thread's stack
   // Chain spans: time inside this element's chain function minus its own downstream pushes.
   std::atomic<uint64_t> spans{0};
@@ -80,6 +83,9 @@ struct LinkRec {
   std::atomic<ElementRec *> to{nullptr};
   std::string to_pad;
   bool pull = false;  // a pull link: `from` pulls from `to`
+  // The peer is a ghost pad (or a ghost pad's internal pad): `to` is the element behind it and
+  // this span only forwards; the receiver's time is counted on the nested push.
+  std::atomic<bool> forward{false};
   std::atomic<uint64_t> buffers{0}, bytes{0};
   std::atomic<int64_t> first_ns{-1}, last_ns{-1};
   // Latency from the source push of a buffer with the same PTS, per source; `lat` is the one
@@ -116,9 +122,11 @@ struct Params {
   int interval_ms = 1000;  // 0: only at stops and at exit
   int sample_ms = 10;      // queue level sampling period
   int cpu_ms = 20;         // thread CPU clock read at most this often per thread
+  bool record = true;      // false: hooks return at once (measures GStreamer's tracing cost)
 };
 
-// Parses "file=x,interval=500,sample=5,cpu=20"; throws std::invalid_argument naming the field.
+// Parses "file=x,interval=500,sample=5,cpu=20,record=1"; throws std::invalid_argument naming the
+// field.
 Params parse_params(const char *text);
 
 class Profiler {
@@ -149,6 +157,7 @@ class Profiler {
   ElementRec *element_rec_locked(GstElement *e);
   LinkRec *link_rec(GstPad *pad, bool pull);
   void resolve_peer(LinkRec *l, GstPad *pad, GstPad *peer);
+  static bool stale(const LinkRec *l);
   ThreadRec *thread_rec(int64_t ts);
   void refresh_locked(ElementRec *r, GstElement *e);
   void sample_cpu(ThreadRec *t, int64_t ts);
@@ -161,6 +170,7 @@ class Profiler {
   int64_t now_ts() const;
 
   Params params_;
+  GstTracerRecord *invoke_log_ = nullptr;  // "nnsprofile-invoke" lines (GST_TRACER at TRACE)
   uint64_t generation_;
   GQuark q_elem_, q_link_;
   std::mutex mu_;  // record creation, descriptive strings, queue figures

@@ -77,6 +77,7 @@ std::string Profiler::snapshot_json(const char *reason) {
            {"pipeline", r->pipeline},
            {"kind", r->kind},
            {"boundary", r->boundary.load(std::memory_order_relaxed)},
+           {"clock_wait", r->clock_wait},
            {"spans", r->spans.load(std::memory_order_relaxed)},
            {"self_ns", r->self_ns.load(std::memory_order_relaxed)},
            {"self_max_ns", r->self_max.load(std::memory_order_relaxed)},

@@ -16,6 +16,7 @@ GST_DEBUG_CATEGORY_STATIC(nns_profile_debug);
 struct NnsProfileTracer {
   GstTracer parent;
   nns::profile::Profiler *prof;
+  bool record;
 };
 struct NnsProfileTracerClass {
   GstTracerClass parent_class;
@@ -29,6 +30,11 @@ using nns::profile::Profiler;
 
 Profiler *prof_of(GObject *self) {
   return reinterpret_cast<NnsProfileTracer *>(self)->prof;
+}
+
+// record=0: the per-buffer hooks stay registered but return at once.
+bool recording(GObject *self) {
+  return reinterpret_cast<NnsProfileTracer *>(self)->record;
 }
 
 template <typename F>
@@ -47,14 +53,17 @@ int64_t ts_of(GstClockTime ts) {
 }
 
 void on_push_pre(GObject *self, GstClockTime ts, GstPad *pad, GstBuffer *buf) {
+  if (!recording(self)) return;
   safely([&] { prof_of(self)->push_pre(ts_of(ts), pad, buf, 1, gst_buffer_get_size(buf)); });
 }
 
 void on_push_post(GObject *self, GstClockTime ts, GstPad *pad, GstFlowReturn) {
+  if (!recording(self)) return;
   safely([&] { prof_of(self)->push_post(ts_of(ts), pad); });
 }
 
 void on_push_list_pre(GObject *self, GstClockTime ts, GstPad *pad, GstBufferList *list) {
+  if (!recording(self)) return;
   safely([&] {
     const guint n = gst_buffer_list_length(list);
     prof_of(self)->push_pre(ts_of(ts), pad, n ? gst_buffer_list_get(list, 0) : nullptr, n,
@@ -63,10 +72,12 @@ void on_push_list_pre(GObject *self, GstClockTime ts, GstPad *pad, GstBufferList
 }
 
 void on_pull_pre(GObject *self, GstClockTime ts, GstPad *pad, guint64, guint) {
+  if (!recording(self)) return;
   safely([&] { prof_of(self)->pull_pre(ts_of(ts), pad); });
 }
 
 void on_pull_post(GObject *self, GstClockTime ts, GstPad *pad, GstBuffer *buf, GstFlowReturn r) {
+  if (!recording(self)) return;
   safely([&] { prof_of(self)->pull_post(ts_of(ts), pad, r == GST_FLOW_OK ? buf : nullptr); });
 }
 
@@ -105,6 +116,7 @@ static void nns_profile_tracer_constructed(GObject *object) {
   }
   g_free(params);
   if (!self->prof) return;
+  self->record = self->prof->params().record;
   nns::profile::set_active_profiler(self->prof);
   GstTracer *t = GST_TRACER(object);
   gst_tracing_register_hook(t, "pad-push-pre", G_CALLBACK(on_push_pre));
@@ -138,6 +150,7 @@ static void nns_profile_tracer_class_init(NnsProfileTracerClass *klass) {
 
 static void nns_profile_tracer_init(NnsProfileTracer *self) {
   self->prof = nullptr;
+  self->record = true;
 }
 
 gboolean nns_profile_tracer_register(GstPlugin *plugin) {

@@ -159,6 +159,10 @@ TEST(NnsProfileReport, TextTableJsonAndHtmlCarryTheFigures) {
         "per_buffer_ns", "max_ns", "quantiles", "hist", "in_rate", "out_rate", "invokes"})
     EXPECT_TRUE(j["elements"][0].contains(k)) << k;
   EXPECT_DOUBLE_EQ(j["elements"][0]["invoke"]["share_of_busy"].get<double>(), 2.0 / 3.0);
+  ASSERT_EQ(j["sinks"].size(), 1u);
+  EXPECT_EQ(j["sinks"][0]["name"], "out");
+  EXPECT_DOUBLE_EQ(j["sinks"][0]["latency_mean_ns"].get<double>(), 5000000);
+  EXPECT_TRUE(j["process"].is_null());  // only when the tool ran the pipeline
   for (const char *k : {"from", "to", "from_pad", "to_pad", "mode", "buffers", "bytes", "rate",
                         "bytes_rate", "to_sink", "latency"})
     EXPECT_TRUE(j["links"][0].contains(k)) << k;
@@ -168,6 +172,25 @@ TEST(NnsProfileReport, TextTableJsonAndHtmlCarryTheFigures) {
     EXPECT_NE(html.find(std::string("data-name=\"") + n + "\""), std::string::npos) << n;
   EXPECT_EQ(html.find("src=\""), std::string::npos);  // nothing loaded from anywhere
   EXPECT_EQ(html.find("href="), std::string::npos);
+}
+
+TEST(NnsProfileReport, ClockWaitersAreNotTheBottleneckWhenSomethingElseWorked) {
+  json t = trace();
+  t["elements"][3]["clock_wait"] = true;  // out: a sync=true sink, busy 90 % waiting
+  t["elements"][3]["self_ns"] = 900000000;
+  rp::Report r = rp::analyse(t, "p", "test");
+  ASSERT_GE(r.bottleneck, 0);
+  EXPECT_EQ(r.elements[static_cast<std::size_t>(r.bottleneck)].name, "work");
+  EXPECT_EQ(r.elements[0].name, "out");  // still first by share
+  const std::string text = rp::text_table(r);
+  EXPECT_NE(text.find(" sink*  "), std::string::npos) << text;
+  EXPECT_NE(text.find("* live source or sync=true sink"), std::string::npos);
+  // With nothing else working, it is named, with the caveat.
+  t["elements"][1]["self_ns"] = 0;
+  t["elements"][0]["gap_ns"] = 0;
+  r = rp::analyse(t, "p", "test");
+  EXPECT_NE(r.bottleneck_text.find("bottleneck: out (fakesink)"), std::string::npos);
+  EXPECT_NE(r.bottleneck_text.find("(includes waiting for the clock)"), std::string::npos);
 }
 
 TEST(NnsProfileReport, RejectsOtherJson) {

@@ -106,7 +106,9 @@ TEST_F(NnsProfileTool, NamesTheSleepingIdentityAsBottleneck) {
       spawn({NNS_PROFILE_TOOL, "--progress", "--html", dir_ + "/r.html", "--json", dir_ + "/r.json",
              "videotestsrc num-buffers=50 ! video/x-raw,format=GRAY8,width=16,height=16 ! "
              "identity name=slow sleep-time=4000 ! tensor_converter name=conv ! "
-             "fakesink name=out sync=false"});
+             "fakesink name=out sync=false"},
+            // An nnsprofile entry of the user's own gives way to the tool's.
+            {"GST_TRACERS=nnsprofile(file=" + dir_ + "/user.json)"});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("bottleneck: slow (identity)"), std::string::npos) << r.out;
   // The table lists slow first (highest share).
@@ -123,18 +125,30 @@ TEST_F(NnsProfileTool, NamesTheSleepingIdentityAsBottleneck) {
   EXPECT_EQ(el["conv"]["buffers"], 50);
   EXPECT_EQ(el["out"]["buffers"], 50);
   EXPECT_GT(el["slow"]["share"].get<double>(), 0.9);
-  EXPECT_GE(el["slow"]["per_buffer_ns"].get<double>(), 4e6);
-  EXPECT_LT(el["slow"]["per_buffer_ns"].get<double>(), 8e6);
+  // At least the 4 ms sleep; one thread, so per buffer at most the run's time per buffer.
+  const double per = el["slow"]["per_buffer_ns"].get<double>();
+  EXPECT_GE(per, 4e6);
+  EXPECT_LE(per * 50, j["duration_ns"].get<double>() + 1e6);
   EXPECT_GT(el["slow"]["busy"].get<double>(), 0.8);
+  EXPECT_LE(el["slow"]["busy"].get<double>(), 1.02);
   bool sink_latency = false;
   for (const auto &l : j["links"])
     if (l["to_sink"].get<bool>()) {
       sink_latency = true;
       EXPECT_EQ(l["latency"]["count"], 50);
-      EXPECT_GE(l["latency"]["mean_ns"].get<double>(), 4e6);
-      EXPECT_LT(l["latency"]["mean_ns"].get<double>(), 30e6);
+      EXPECT_GE(l["latency"]["mean_ns"].get<double>(), per);
+      EXPECT_LT(l["latency"]["mean_ns"].get<double>(), per + 5e6);
     }
   EXPECT_TRUE(sink_latency);
+  ASSERT_EQ(j["sinks"].size(), 1u);
+  EXPECT_EQ(j["sinks"][0]["name"], "out");
+  EXPECT_EQ(j["sinks"][0]["buffers"], 50);
+  // The process figures of the run: mostly asleep, so well under one core.
+  EXPECT_GT(j["process"]["cpu_ns"].get<double>(), 0);
+  EXPECT_GE(j["process"]["wall_ns"].get<double>(), j["duration_ns"].get<double>());
+  EXPECT_LT(j["process"]["cpu_share"].get<double>(), 0.9);
+  EXPECT_GT(j["process"]["max_rss_kb"].get<double>(), 1000);
+  EXPECT_NE(r.out.find("process: CPU "), std::string::npos);
   const std::string html = slurp(dir_ + "/r.html");
   EXPECT_EQ(unbalanced_tag(html), "");
   for (const char *n : {"slow", "conv", "out"})

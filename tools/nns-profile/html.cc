@@ -120,7 +120,9 @@ std::string html_page(const Report &r) {
     << "</p>\n";
 
   o << "<h2>Pipeline</h2><svg id=\"graph\" width=\"" << W << "\" height=\"" << H
-    << "\" xmlns=\"http://www.w3.org/2000/svg\"><defs><marker id=\"arrow\" viewBox=\"0 0 10 10\" "
+    << "\" viewBox=\"0 0 " << W << " " << H
+    << "\" style=\"max-width:100%;height:auto\" xmlns=\"http://www.w3.org/2000/svg\"><defs><marker "
+       "id=\"arrow\" viewBox=\"0 0 10 10\" "
        "refX=\"10\" refY=\"5\" markerWidth=\"7\" markerHeight=\"7\" orient=\"auto\"><path d=\"M0,0"
        "L10,5L0,10z\" fill=\"#555\"/></marker></defs>\n";
   for (const auto &k : r.links) {
@@ -191,11 +193,13 @@ std::string html_page(const Report &r) {
     o << hist_svg(e.hist, e.name + ": own time per buffer");
     o << hist_svg(e.invoke_hist, e.name + ": invoke time");
   }
+  o << "<h2>End-to-end latency</h2>\n";
   for (const auto &k : r.links)
     if (k.to_sink && k.latency_count)
-      o << "<p>End-to-end latency to " << esc(names[k.to]) << ": mean " << fmt_ns(k.latency_mean_ns)
-        << ", p99 " << fmt_ns(static_cast<double>(k.latency_q.p99)) << ", max "
-        << fmt_ns(static_cast<double>(k.latency_max_ns)) << "</p>\n";
+      o << "<p>Source to " << esc(names[k.to]) << ": mean " << fmt_ns(k.latency_mean_ns) << ", p99 "
+        << fmt_ns(static_cast<double>(k.latency_q.p99)) << ", max "
+        << fmt_ns(static_cast<double>(k.latency_max_ns)) << "</p>\n"
+        << hist_svg(k.latency_hist, "latency from the source to " + names[k.to]);
 
   // Click a column header to sort its table.
   o << "<script>\n"

@@ -3,6 +3,7 @@
 // output file of another program) and writes a text table naming the bottleneck, an HTML report
 // and a JSON report (docs/profiler.md).
 #include <glib-unix.h>
+#include <sys/resource.h>
 #include <gst/gst.h>
 #include <unistd.h>
 
@@ -195,7 +196,16 @@ void prepend_env(const char *name, const std::string &dir) {
 }
 
 // Runs the pipeline; returns the tracer's final output (null on failure) and sets `failed`.
-json run_pipeline(const Options &o, bool &failed) {
+int64_t process_cpu_ns() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  auto ns = [](const timeval &t) {
+    return static_cast<int64_t>(t.tv_sec) * 1000000000 + static_cast<int64_t>(t.tv_usec) * 1000;
+  };
+  return ns(u.ru_utime) + ns(u.ru_stime);
+}
+
+json run_pipeline(const Options &o, bool &failed, json &process) {
   std::string trace = o.trace;
   if (trace.empty()) {
     gchar *dir = g_dir_make_tmp("nns-profile-XXXXXX", nullptr);
@@ -210,9 +220,15 @@ json run_pipeline(const Options &o, bool &failed) {
   setenv("NNSTREAMER_FILTERS", (b + "/subplugins/filters").c_str(), 0);
   setenv("NNSTREAMER_DECODERS", (b + "/subplugins/decoders").c_str(), 0);
   setenv("NNSTREAMER_CONVERTERS", (b + "/subplugins/converters").c_str(), 0);
-  const char *old = std::getenv("GST_TRACERS");
+  // Other tracers the user asked for stay; an nnsprofile entry of theirs gives way to ours.
   std::string tracers = "nnsprofile(file=\"" + trace + "\",interval=250)";
-  if (old && *old) tracers = std::string(old) + ";" + tracers;
+  if (const char *old = std::getenv("GST_TRACERS")) {
+    gchar **items = g_strsplit(old, ";", 0);
+    for (gchar **it = items; *it; ++it)
+      if (**it && std::strncmp(*it, "nnsprofile", 10) != 0)
+        tracers = std::string(*it) + ";" + tracers;
+    g_strfreev(items);
+  }
   setenv("GST_TRACERS", tracers.c_str(), 1);
   gst_init(nullptr, nullptr);
 
@@ -246,6 +262,7 @@ json run_pipeline(const Options &o, bool &failed) {
   run.opt = &o;
   run.trace_file = trace;
   run.start = std::chrono::steady_clock::now();
+  const int64_t cpu0 = process_cpu_ns();
   GstBus *bus = gst_element_get_bus(p);
   const guint watch = gst_bus_add_watch(bus, on_bus, &run);
   const guint tick = g_timeout_add(250, on_tick, &run);
@@ -255,6 +272,18 @@ json run_pipeline(const Options &o, bool &failed) {
     run.error = true;
   }
   g_main_loop_run(run.loop);
+  {
+    const int64_t cpu = process_cpu_ns() - cpu0;
+    const int64_t wall = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                             std::chrono::steady_clock::now() - run.start)
+                             .count();
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    process = json{{"cpu_ns", cpu},
+                   {"wall_ns", wall},
+                   {"cpu_share", wall > 0 ? static_cast<double>(cpu) / wall : 0.0},
+                   {"max_rss_kb", u.ru_maxrss}};
+  }
   g_source_remove(tick);
   g_source_remove(sig);
   g_source_remove(watch);
@@ -300,7 +329,7 @@ int main(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
-  json trace;
+  json trace, process;
   bool failed = false;
   std::string title = o.pipeline;
   if (!o.from.empty()) {
@@ -322,7 +351,7 @@ int main(int argc, char **argv) {
     }
   } else {
     o.only = "nns-profile";
-    trace = run_pipeline(o, failed);
+    trace = run_pipeline(o, failed, process);
     if (!trace.is_object()) {
       if (!failed) std::fprintf(stderr, "nns-profile: the tracer wrote no output\n");
       return failed ? 1 : 2;
@@ -331,6 +360,7 @@ int main(int argc, char **argv) {
   int rc = failed ? 1 : 0;
   try {
     rp::Report r = rp::analyse(trace, o.only, title);
+    r.process = process;
     std::fputs(rp::text_table(r).c_str(), stdout);
     if (!write_text(o.html, rp::html_page(r))) rc = 2;
     if (!write_text(o.json_out, rp::report_json(r).dump(2) + "\n")) rc = 2;

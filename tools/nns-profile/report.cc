@@ -94,6 +94,7 @@ Report analyse(const json &trace, const std::string &pipeline, const std::string
     x.name = e.value("name", "");
     x.factory = e.value("factory", "");
     x.kind = kind;
+    x.clock_wait = e.value("clock_wait", false);
     idx[x.id] = r.elements.size();
     kind_of[x.id] = kind;
     name_of[x.id] = x.name;
@@ -129,7 +130,8 @@ Report analyse(const json &trace, const std::string &pipeline, const std::string
       k.latency_mean_ns = static_cast<double>(num(lat, "total_ns")) / k.latency_count;
       k.latency_min_ns = num(lat, "min_ns");
       k.latency_max_ns = num(lat, "max_ns");
-      k.latency_q = quantiles(hist_of(l["latency_hist"]));
+      k.latency_hist = hist_of(l["latency_hist"]);
+      k.latency_q = quantiles(k.latency_hist);
     }
     k.to_sink = kind_of[to] == "sink";
     r.links.push_back(std::move(k));
@@ -191,18 +193,25 @@ Report analyse(const json &trace, const std::string &pipeline, const std::string
   std::stable_sort(r.elements.begin(), r.elements.end(),
                    [](const Element &a, const Element &b) { return a.share > b.share; });
 
-  double best = -1;
-  for (std::size_t i = 0; i < r.elements.size(); ++i)
-    if (r.elements[i].kind != "queue" && r.elements[i].busy_ns > 0 && r.elements[i].busy > best) {
-      best = r.elements[i].busy;
-      r.bottleneck = static_cast<int>(i);
+  // Elements whose time includes clock waits are candidates only when nothing else worked.
+  for (int pass = 0; pass < 2 && r.bottleneck < 0; ++pass) {
+    double best = -1;
+    for (std::size_t i = 0; i < r.elements.size(); ++i) {
+      const Element &e = r.elements[i];
+      if (e.kind == "queue" || e.busy_ns <= 0 || (pass == 0 && e.clock_wait)) continue;
+      if (e.busy > best) {
+        best = e.busy;
+        r.bottleneck = static_cast<int>(i);
+      }
     }
+  }
   if (r.bottleneck >= 0) {
     const Element &b = r.elements[static_cast<std::size_t>(r.bottleneck)];
     r.bottleneck_text = "bottleneck: " + b.name + " (" + b.factory + "), busy " + pct(b.busy) +
                         " of the " + fmt_ns(dur) + " run, " + fmt_ns(b.per_buffer_ns) +
                         " per buffer, " + pct(b.share) + " of all element time";
     if (b.invokes) r.bottleneck_text += "; invoke " + fmt_ns(b.invoke_mean_ns) + " per buffer";
+    if (b.clock_wait) r.bottleneck_text += " (includes waiting for the clock)";
   } else {
     r.bottleneck_text = "bottleneck: none (no element processed a buffer)";
   }
@@ -236,7 +245,8 @@ std::string text_table(const Report &r) {
   o << line;
   for (const auto &e : r.elements) {
     std::snprintf(line, sizeof line, "%-20s %-18s %-7s %8llu %7s %7s %10s %10s %10s %10s %9s\n",
-                  e.name.substr(0, 20).c_str(), e.factory.substr(0, 18).c_str(), e.kind.c_str(),
+                  e.name.substr(0, 20).c_str(), e.factory.substr(0, 18).c_str(),
+                  (e.kind + (e.clock_wait ? "*" : "")).c_str(),
                   static_cast<unsigned long long>(e.buffers),
                   e.kind == "queue" ? "wait" : pct(e.busy).c_str(), pct(e.share).c_str(),
                   fmt_ns(e.per_buffer_ns).c_str(), fmt_ns(static_cast<double>(e.q.p99)).c_str(),
@@ -244,7 +254,21 @@ std::string text_table(const Report &r) {
                   e.invokes ? fmt_ns(e.invoke_mean_ns).c_str() : "-", fmt_rate(e.in_rate).c_str());
     o << line;
   }
+  for (const auto &e : r.elements)
+    if (e.clock_wait) {
+      o << "* live source or sync=true sink: its time includes waiting for the clock\n";
+      break;
+    }
   o << "\n" << r.bottleneck_text << "\n";
+  if (r.process.is_object()) {
+    std::snprintf(line, sizeof line,
+                  "process: CPU %s in %s wall (%s of one core), max RSS %.1f MiB\n",
+                  fmt_ns(r.process["cpu_ns"].get<double>()).c_str(),
+                  fmt_ns(r.process["wall_ns"].get<double>()).c_str(),
+                  pct(r.process["cpu_share"].get<double>()).c_str(),
+                  r.process["max_rss_kb"].get<double>() / 1024);
+    o << line;
+  }
   bool any = false;
   for (const auto &k : r.links)
     if (k.to_sink && k.latency_count) {
@@ -263,10 +287,20 @@ std::string text_table(const Report &r) {
     if (!e.queue.is_null()) {
       if (!any) o << "\nqueues:\n";
       any = true;
+      auto limit = [](const json &v, bool time) {
+        const double x = v.get<double>();
+        return x > 0 ? (time ? fmt_ns(x) : std::to_string(static_cast<long long>(x)))
+                     : std::string("none");
+      };
       std::snprintf(line, sizeof line,
-                    "  %-24s mean %.1f buffers, max %d of %d, full %s of samples, waited %s\n",
+                    "  %-24s buffers mean %.1f max %d (limit %s), time mean %s max %s (limit "
+                    "%s), at a limit in %s of samples, waited %s\n",
                     e.name.c_str(), e.queue["mean_buffers"].get<double>(),
-                    e.queue["max_buffers"].get<int>(), e.queue["max_size_buffers"].get<int>(),
+                    e.queue["max_buffers"].get<int>(),
+                    limit(e.queue["max_size_buffers"], false).c_str(),
+                    fmt_ns(e.queue["mean_time_ns"].get<double>()).c_str(),
+                    fmt_ns(e.queue["max_time_ns"].get<double>()).c_str(),
+                    limit(e.queue["max_size_time_ns"], true).c_str(),
                     pct(e.queue["full_share"].get<double>()).c_str(),
                     fmt_ns(static_cast<double>(e.wait_ns)).c_str());
       o << line;
@@ -299,6 +333,7 @@ json report_json(const Report &r) {
            {"name", e.name},
            {"factory", e.factory},
            {"kind", e.kind},
+           {"clock_wait", e.clock_wait},
            {"buffers", e.buffers},
            {"busy_ns", e.busy_ns},
            {"wait_ns", e.wait_ns},
@@ -338,7 +373,8 @@ json report_json(const Report &r) {
                                           {"mean_ns", k.latency_mean_ns},
                                           {"min_ns", k.latency_min_ns},
                                           {"max_ns", k.latency_max_ns},
-                                          {"quantiles", quant_json(k.latency_q)}}}});
+                                          {"quantiles", quant_json(k.latency_q)},
+                                          {"hist", hist_json(k.latency_hist)}}}});
   j["links"] = std::move(links);
   json th = json::array();
   for (const auto &t : r.threads)
@@ -350,6 +386,21 @@ json report_json(const Report &r) {
                       {"cpu_share", t.cpu_share},
                       {"pushes", t.pushes}});
   j["threads"] = std::move(th);
+  // Per sink: what arrived, how fast, and how late.
+  std::map<int, std::string> names;
+  for (const auto &e : r.elements) names[e.id] = e.name;
+  json sinks = json::array();
+  for (const auto &k : r.links)
+    if (k.to_sink)
+      sinks.push_back(json{{"name", names[k.to]},
+                           {"buffers", k.buffers},
+                           {"rate", k.rate},
+                           {"latency_mean_ns", k.latency_mean_ns},
+                           {"latency_p50_ns", k.latency_q.p50},
+                           {"latency_p99_ns", k.latency_q.p99},
+                           {"latency_max_ns", k.latency_max_ns}});
+  j["sinks"] = std::move(sinks);
+  j["process"] = r.process;
   return j;
 }
 

@@ -18,6 +18,7 @@ struct Quantiles {
 struct Element {
   int id = -1;
   std::string name, factory, kind;
+  bool clock_wait = false;   // live source / sync=true sink: busy_ns includes clock waits
   uint64_t buffers = 0;      // buffers this element handled (received, or produced by a source)
   int64_t busy_ns = 0;       // own working time (queues: 0, see wait_ns)
   int64_t wait_ns = 0;       // queues: time blocked or waiting (not work)
@@ -46,6 +47,7 @@ struct Link {
   double latency_mean_ns = -1;
   int64_t latency_min_ns = -1, latency_max_ns = -1;
   Quantiles latency_q;
+  std::vector<std::pair<int64_t, uint64_t>> latency_hist;
   bool to_sink = false;
 };
 
@@ -66,6 +68,9 @@ struct Report {
   std::vector<Thread> threads;
   int bottleneck = -1;  // index in elements, -1 when nothing ran
   std::string bottleneck_text;
+  // Set by the tool when it ran the pipeline itself: cpu_ns (user + system of the whole
+  // process during the run), wall_ns, cpu_share, max_rss_kb. Null otherwise.
+  nlohmann::json process;
 };
 
 // Builds the report from a tracer output object. `pipeline`: only elements of that top-level
