@@ -83,6 +83,13 @@ bool peer_accepts_flexible(ConverterState *p, int rate_n, int rate_d) {
   return peer && gst_caps_can_intersect(peer.get(), flex.get());
 }
 
+bool peer_accepts_static(ConverterState *p, int rate_n, int rate_d) {
+  CapsPtr peer(gst_pad_peer_query_caps(p->srcpad, nullptr));
+  CapsPtr fixed(caps_for_format(TensorFormat::kStatic, rate_n, rate_d));
+  gst_caps_append(fixed.get(), legacy_tensor_caps(rate_n, rate_d));
+  return peer && gst_caps_can_intersect(peer.get(), fixed.get());
+}
+
 // Sets the src caps for `cfg` (static, or flexible when `cfg` is flexible or downstream only
 // takes flexible). Throws when downstream accepts neither.
 }  // namespace
@@ -240,9 +247,12 @@ void configure(ConverterState *p, GstCaps *caps) {
       m.describe = "flexible tensors";
       m.config.rate_n = p->in_rate_n;
       m.config.rate_d = p->in_rate_d;
+      // As upstream, flexible in gives static out (headers stripped, caps from each buffer's
+      // headers); passed through untouched only to a peer that takes flexible tensors alone.
       if (p->props_valid) {
         m.config.info = p->props;
-      } else if (peer_accepts_flexible(p, p->in_rate_n, p->in_rate_d)) {
+      } else if (!peer_accepts_static(p, p->in_rate_n, p->in_rate_d) &&
+                 peer_accepts_flexible(p, p->in_rate_n, p->in_rate_d)) {
         p->flex_passthrough = p->headers_ready = true;
         m.config.info.format = TensorFormat::kFlexible;
       } else {
