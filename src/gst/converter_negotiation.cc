@@ -83,6 +83,21 @@ bool peer_accepts_flexible(ConverterState *p, int rate_n, int rate_d) {
   return peer && gst_caps_can_intersect(peer.get(), flex.get());
 }
 
+// Flexible caps for the tensors of `cfg` as a peer may read them: format=flexible plus the static
+// description, so a peer (capsfilter) asking for other types or dimensions does not intersect.
+bool peer_accepts_flexible_for(ConverterState *p, const TensorsConfig &cfg) {
+  CapsPtr peer(gst_pad_peer_query_caps(p->srcpad, nullptr));
+  if (!peer) return false;
+  CapsPtr flex(flexible_caps(cfg.rate_n, cfg.rate_d));
+  if (!cfg.info.valid()) return gst_caps_can_intersect(peer.get(), flex.get());
+  TensorsConfig described = cfg;
+  described.info.format = TensorFormat::kStatic;
+  nns::gst::StructurePtr s(structure_from_config(described));
+  gst_structure_set(s.get(), "format", G_TYPE_STRING, "flexible", nullptr);
+  CapsPtr honest(gst_caps_new_full(s.release(), nullptr));
+  return gst_caps_can_intersect(peer.get(), honest.get());
+}
+
 bool peer_accepts_static(ConverterState *p, int rate_n, int rate_d) {
   CapsPtr peer(gst_pad_peer_query_caps(p->srcpad, nullptr));
   CapsPtr fixed(caps_for_format(TensorFormat::kStatic, rate_n, rate_d));
@@ -106,7 +121,7 @@ void send_caps(ConverterState *p, const TensorsConfig &cfg) {
     CapsPtr both(gst_caps_intersect_full(mine.get(), peer.get(), GST_CAPS_INTERSECT_FIRST));
     if (!gst_caps_is_empty(both.get())) {
       caps.reset(gst_caps_fixate(both.release()));
-    } else if (peer_accepts_flexible(p, cfg.rate_n, cfg.rate_d)) {
+    } else if (peer_accepts_flexible_for(p, cfg)) {
       flexible = true;
     } else {
       CapsPtr plain(caps_from_config(cfg, false));

@@ -341,6 +341,9 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
       fail(ErrorKind::kNegotiation, where() + ": downstream caps " + caps_to_string(outcaps) +
                                         " do not match the filter output " +
                                         frame_out_.to_string());
+    // Flexible output caps a capsfilter decorated with static fields must not contradict them.
+    if (out_flexible_ && frame_out_.valid())
+      check_flexible_caps_fields(outcaps, frame_out_, where() + " produces");
   }
 
   // Scratch and headers for the per-buffer path.

@@ -399,3 +399,17 @@ TEST(TensorFilter, UpstreamNegotiatesToTheModelInput) {
   EXPECT_EQ(g_easy_calls.load(), 2);
   EXPECT_NE(caps.find("3:280:40:1"), std::string::npos) << caps;
 }
+
+// Caps honesty: a capsfilter asking for another type than the model produces does not get a
+// flexible stream whose caps say so; negotiation fails naming both types.
+TEST(TensorFilter, CapsfilterAskingAnotherTypeFailsNamingBoth) {
+  EasyModel m("tf_easy_types", easy_copy, nullptr, _NNS_UINT8, {3, 4, 4, 1}, {3, 4, 4, 1});
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=1 ! video/x-raw,format=RGB,width=4,height=4 ! tensor_converter ! "
+      "tensor_filter name=tf framework=custom-easy model=tf_easy_types ! "
+      "other/tensors,types=float32 ! fakesink");
+  ASSERT_TRUE(r.error) << "negotiated";
+  EXPECT_EQ(r.error_source, "tf") << r.error_text;
+  EXPECT_NE(r.error_text.find("say types=float32"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("produces uint8"), std::string::npos) << r.error_text;
+}
