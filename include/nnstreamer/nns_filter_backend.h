@@ -68,6 +68,8 @@ typedef struct {
   int num_threads;                    /* 0: back end default */
   /* Version 2. */
   int invoke_async; /* invoke-async=true and the table has invoke_async: it will be called */
+  int verbose;      /* silent=false: the back end may print what it chose (e.g. the
+                       accelerator), as NNStreamer's sub-plugins do */
 } nns_filter_props;
 
 /* invoke-async (version 2) ------------------------------------------------------------------

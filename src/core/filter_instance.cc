@@ -60,6 +60,7 @@ struct PropsHolder {
     p.invoke_dynamic = s.invoke_dynamic ? 1 : 0;
     p.num_threads = s.num_threads;
     p.invoke_async = s.invoke_async ? 1 : 0;
+    p.verbose = s.verbose ? 1 : 0;
   }
 };
 

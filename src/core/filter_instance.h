@@ -45,6 +45,7 @@ struct FilterOpenSpec {
   bool invoke_dynamic = false;
   bool invoke_async = false;  // invoke-async=true and the back end has invoke_async
   int num_threads = 0;
+  bool verbose = false;    // silent=false
   std::string shared_key;  // shared-tensor-filter-key; "" = not shared
 };
 

@@ -180,9 +180,13 @@ ArithOptions parse_arithmetic(const Ctx &c) {
     if (op.channel >= 0 && !a.per_channel)
       c.bad(quote(t) + " names channel " + std::to_string(op.channel) +
             " but per-channel is not enabled (add per-channel:true@DIM first)");
-    if (op.values.size() > 1 && !a.per_channel)
-      c.bad(quote(t) + " has " + std::to_string(op.values.size()) +
-            " values; one value per channel needs per-channel:true@DIM first");
+    if (op.values.size() > 1 && !a.per_channel) {
+      // Upstream reads only the first value here: so do we, and say so.
+      a.warnings.push_back(quote(t) + " has " + std::to_string(op.values.size()) +
+                           " values but per-channel is not enabled: only the first (" + parts[1] +
+                           ") is used (per-channel:true@DIM gives one per channel)");
+      op.values.resize(1);
+    }
     if (op.values.size() > 1 && op.channel >= 0)
       c.bad(quote(t) + " gives both one value per channel and a channel index @" +
             std::to_string(op.channel));

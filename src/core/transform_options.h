@@ -65,6 +65,9 @@ struct ArithOptions {
   bool per_channel = false;
   uint32_t ch_dim = 0;
   std::vector<ArithOp> ops;
+  // Accepted as upstream reads them, but worth telling the user (e.g. add:1:2 without
+  // per-channel uses 1).
+  std::vector<std::string> warnings;
 };
 struct TransposeOptions {
   std::array<uint32_t, 4> order{0, 1, 2, 3};

@@ -100,6 +100,15 @@ TEST(TransformOptions, Arithmetic) {
   EXPECT_EQ(pc.ch_dim, 0u);
   EXPECT_EQ(pc.ops[0].channel, 1);
   EXPECT_EQ(pc.ops[1].channel, -1);
+  // Without per-channel, several values: upstream's reading, the first one, with a warning.
+  auto first = parse_options(Mode::kArithmetic, "add:5:2,mul:3").get<ArithOptions>();
+  ASSERT_EQ(first.ops.size(), 2u);
+  ASSERT_EQ(first.ops[0].values.size(), 1u);
+  EXPECT_EQ(first.ops[0].values[0].i, 5);
+  ASSERT_EQ(first.warnings.size(), 1u);
+  EXPECT_NE(first.warnings[0].find("'add:5:2' has 2 values"), std::string::npos)
+      << first.warnings[0];
+  EXPECT_NE(first.warnings[0].find("only the first (5) is used"), std::string::npos);
   auto multi = parse_options(Mode::kArithmetic, "per-channel:true@2,add:1:2:3").get<ArithOptions>();
   EXPECT_EQ(multi.ch_dim, 2u);
   EXPECT_EQ(multi.ops[0].values.size(), 3u);
@@ -118,7 +127,6 @@ TEST(TransformOptions, Arithmetic) {
   expect_bad(Mode::kArithmetic, "typecast:float32", {"no add/mul/div"});
   expect_bad(Mode::kArithmetic, "add:1,,mul:2", {"empty item"});
   expect_bad(Mode::kArithmetic, "add:1@0", {"'add:1@0' names channel 0", "per-channel:true@DIM"});
-  expect_bad(Mode::kArithmetic, "add:1:2", {"2 values", "per-channel"});
   expect_bad(Mode::kArithmetic, "per-channel:true@16,add:1", {"'16'", "0..15"});
   expect_bad(Mode::kArithmetic, "per-channel:maybe,add:1", {"'per-channel:maybe'"});
   expect_bad(Mode::kArithmetic, "add:1,per-channel:true@0", {"must come before"});

@@ -83,6 +83,28 @@ bool peer_accepts_flexible(ConverterState *p, int rate_n, int rate_d) {
   return peer && gst_caps_can_intersect(peer.get(), flex.get());
 }
 
+// Flexible caps for the tensors of `cfg` as a peer may read them: format=flexible plus the static
+// description, so a peer (capsfilter) asking for other types or dimensions does not intersect.
+bool peer_accepts_flexible_for(ConverterState *p, const TensorsConfig &cfg) {
+  CapsPtr peer(gst_pad_peer_query_caps(p->srcpad, nullptr));
+  if (!peer) return false;
+  CapsPtr flex(flexible_caps(cfg.rate_n, cfg.rate_d));
+  if (!cfg.info.valid()) return gst_caps_can_intersect(peer.get(), flex.get());
+  TensorsConfig described = cfg;
+  described.info.format = TensorFormat::kStatic;
+  nns::gst::StructurePtr s(structure_from_config(described));
+  gst_structure_set(s.get(), "format", G_TYPE_STRING, "flexible", nullptr);
+  CapsPtr honest(gst_caps_new_full(s.release(), nullptr));
+  return gst_caps_can_intersect(peer.get(), honest.get());
+}
+
+bool peer_accepts_static(ConverterState *p, int rate_n, int rate_d) {
+  CapsPtr peer(gst_pad_peer_query_caps(p->srcpad, nullptr));
+  CapsPtr fixed(caps_for_format(TensorFormat::kStatic, rate_n, rate_d));
+  gst_caps_append(fixed.get(), legacy_tensor_caps(rate_n, rate_d));
+  return peer && gst_caps_can_intersect(peer.get(), fixed.get());
+}
+
 // Sets the src caps for `cfg` (static, or flexible when `cfg` is flexible or downstream only
 // takes flexible). Throws when downstream accepts neither.
 }  // namespace
@@ -99,7 +121,7 @@ void send_caps(ConverterState *p, const TensorsConfig &cfg) {
     CapsPtr both(gst_caps_intersect_full(mine.get(), peer.get(), GST_CAPS_INTERSECT_FIRST));
     if (!gst_caps_is_empty(both.get())) {
       caps.reset(gst_caps_fixate(both.release()));
-    } else if (peer_accepts_flexible(p, cfg.rate_n, cfg.rate_d)) {
+    } else if (peer_accepts_flexible_for(p, cfg)) {
       flexible = true;
     } else {
       CapsPtr plain(caps_from_config(cfg, false));
@@ -240,9 +262,12 @@ void configure(ConverterState *p, GstCaps *caps) {
       m.describe = "flexible tensors";
       m.config.rate_n = p->in_rate_n;
       m.config.rate_d = p->in_rate_d;
+      // As upstream, flexible in gives static out (headers stripped, caps from each buffer's
+      // headers); passed through untouched only to a peer that takes flexible tensors alone.
       if (p->props_valid) {
         m.config.info = p->props;
-      } else if (peer_accepts_flexible(p, p->in_rate_n, p->in_rate_d)) {
+      } else if (!peer_accepts_static(p, p->in_rate_n, p->in_rate_d) &&
+                 peer_accepts_flexible(p, p->in_rate_n, p->in_rate_d)) {
         p->flex_passthrough = p->headers_ready = true;
         m.config.info.format = TensorFormat::kFlexible;
       } else {

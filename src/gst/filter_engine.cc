@@ -218,7 +218,23 @@ TensorsInfo FilterEngine::current_output() const {
 // Caps
 
 GstCaps *FilterEngine::transform_caps(GstPadDirection direction, GstCaps *caps) {
-  if (!inst_ || !caps || gst_caps_is_empty(caps) || gst_caps_is_any(caps)) return nullptr;
+  if (!inst_) return nullptr;
+  if (direction == GST_PAD_SRC && eff_in_known_ && !combi_.in_defined) {
+    // src -> sink: the model's input, whatever downstream is (ANY too), so the elements before
+    // the filter negotiate to it (tensor_converter then asks its source for 280x40 video for a
+    // 3:280:40:1 model). The rate comes from downstream's caps when they give one.
+    int rate_n = -1, rate_d = -1;
+    if (caps && !gst_caps_is_empty(caps) && !gst_caps_is_any(caps)) {
+      try {
+        TensorsConfig c = config_from_structure(gst_caps_get_structure(caps, 0));
+        rate_n = c.rate_n, rate_d = c.rate_d;
+      } catch (const Error &) {
+      }
+    }
+    TensorsConfig ic{eff_in_, rate_n, rate_d};
+    return with_flexible(caps_from_config(ic, true), rate_n, rate_d);
+  }
+  if (!caps || gst_caps_is_empty(caps) || gst_caps_is_any(caps)) return nullptr;
   TensorsConfig in;
   try {
     in = config_from_structure(gst_caps_get_structure(caps, 0));
@@ -250,12 +266,7 @@ GstCaps *FilterEngine::transform_caps(GstPadDirection direction, GstCaps *caps) 
     TensorsConfig oc{out, in.rate_n, in.rate_d};
     return with_flexible(caps_from_config(oc, true), in.rate_n, in.rate_d);
   }
-  // src -> sink
-  if (eff_in_known_ && !combi_.in_defined) {
-    TensorsConfig ic{eff_in_, in.rate_n, in.rate_d};
-    return with_flexible(caps_from_config(ic, true), in.rate_n, in.rate_d);
-  }
-  return nullptr;
+  return nullptr;  // src -> sink without a known model input
 }
 
 void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
@@ -332,6 +343,9 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
       fail(ErrorKind::kNegotiation, where() + ": downstream caps " + caps_to_string(outcaps) +
                                         " do not match the filter output " +
                                         frame_out_.to_string());
+    // Flexible output caps a capsfilter decorated with static fields must not contradict them.
+    if (out_flexible_ && frame_out_.valid())
+      check_flexible_caps_fields(outcaps, frame_out_, where() + " produces");
   }
 
   // Scratch and headers for the per-buffer path.

@@ -178,6 +178,7 @@ FilterOpenSpec make_open_spec(const FilterSettings &s) {
   spec.input_layout = parse_layouts(s.inputlayout);
   spec.output_layout = parse_layouts(s.outputlayout);
   spec.invoke_dynamic = s.invoke_dynamic;
+  spec.verbose = !s.silent;
   spec.shared_key = s.shared_key;
   return spec;
 }

@@ -71,6 +71,60 @@ bool is_tensor_caps(const GstCaps *caps) {
   return true;
 }
 
+bool structure_allows_format(const GstStructure *s, TensorFormat format) {
+  if (gst_structure_has_name(s, kTensor)) return format == TensorFormat::kStatic;
+  if (!gst_structure_has_name(s, kTensors)) return false;
+  const GValue *v = gst_structure_get_value(s, "format");
+  if (!v) return true;
+  const std::string want(format_name(format));
+  if (G_VALUE_HOLDS_STRING(v)) return want == g_value_get_string(v);
+  if (GST_VALUE_HOLDS_LIST(v)) {
+    for (guint i = 0; i < gst_value_list_get_size(v); ++i) {
+      const GValue *e = gst_value_list_get_value(v, i);
+      if (G_VALUE_HOLDS_STRING(e) && want == g_value_get_string(e)) return true;
+    }
+  }
+  return false;
+}
+
+void check_flexible_caps_fields(const GstCaps *caps, const TensorsInfo &info,
+                                const std::string &who) {
+  if (!caps || gst_caps_is_empty(caps) || gst_caps_is_any(caps)) return;
+  const GstStructure *s = gst_caps_get_structure(caps, 0);
+  if (!gst_structure_has_name(s, kTensors)) return;
+  // Read the static fields as if the structure were static.
+  GstStructure *copy = gst_structure_copy(s);
+  gst_structure_set(copy, "format", G_TYPE_STRING, "static", nullptr);
+  const bool has_num = gst_structure_has_field(copy, "num_tensors");
+  const char *types = gst_structure_get_string(copy, "types");
+  const char *dims = gst_structure_get_string(copy, "dimensions");
+  std::string problem;
+  try {
+    if (has_num || types || dims) {
+      TensorsConfig c = config_from_structure(copy);
+      const std::string caps_text = caps_to_string(caps);
+      if (c.info.size() != info.size()) {
+        problem = "the output caps " + caps_text + " describe " + std::to_string(c.info.size()) +
+                  " tensor(s), but " + who + " " + std::to_string(info.size()) + " (" +
+                  info.to_string() + ")";
+      } else {
+        for (std::size_t i = 0; i < info.size() && problem.empty(); ++i) {
+          if (types && c.info[i].type != info[i].type)
+            problem = "the output caps " + caps_text + " say types=" + types + ", but " + who +
+                      " " + info.types_string();
+          else if (dims && !dims_equal(c.info[i].dims, info[i].dims))
+            problem = "the output caps " + caps_text + " say dimensions=" + dims + ", but " + who +
+                      " " + info.dims_string();
+        }
+      }
+    }
+  } catch (const Error &e) {
+    problem = std::string("the output caps have bad static fields: ") + e.what();
+  }
+  gst_structure_free(copy);
+  if (!problem.empty()) fail(ErrorKind::kNegotiation, problem);
+}
+
 TensorsConfig config_from_structure(const GstStructure *s) {
   TensorsConfig c;
   read_rate(s, c);
@@ -200,6 +254,12 @@ GstCaps *caps_for_format(TensorFormat format, int rate_n, int rate_d) {
   c.rate_n = rate_n;
   c.rate_d = rate_d;
   return gst_caps_new_full(structure_from_config(c), nullptr);
+}
+
+GstCaps *legacy_tensor_caps(int rate_n, int rate_d) {
+  GstStructure *s = gst_structure_new_empty(kTensor);
+  set_rate(s, rate_n, rate_d);
+  return gst_caps_new_full(s, nullptr);
 }
 
 std::string caps_to_string(const GstCaps *caps) {

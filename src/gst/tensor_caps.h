@@ -22,6 +22,18 @@ namespace nns::gst {
 bool is_tensor_structure(const GstStructure *s);
 bool is_tensor_caps(const GstCaps *caps);  // every structure is other/tensor(s)
 
+// Whether a stream of `format` fits structure `s`: other/tensor is static only; other/tensors
+// without a format field takes any, with a string or a list of strings those named.
+bool structure_allows_format(const GstStructure *s, TensorFormat format);
+
+// Flexible caps a peer may still decorate with static fields (a capsfilter
+// `other/tensors,types=uint8` intersected with `other/tensors,format=flexible`). Throws
+// nns::Error(kNegotiation), naming the field, what the caps say and what `info` (what the element
+// pushes) says, when such a field (num_tensors, types, dimensions) disagrees with `info`.
+// `who` starts the message (e.g. "mode=typecast option=float32 makes").
+void check_flexible_caps_fields(const GstCaps *caps, const TensorsInfo &info,
+                                const std::string &who);
+
 // Reads whatever fields are fixed; unfixed/missing fields stay unset (empty tensors,
 // rate -1). Throws nns::Error(kNegotiation) on malformed dimension/type strings or when
 // num_tensors disagrees with the lists.
@@ -38,6 +50,8 @@ GstStructure *structure_from_config(const TensorsConfig &config);
 
 // Caps describing `format` with the given rate (or any rate if rate_n < 0).
 GstCaps *caps_for_format(TensorFormat format, int rate_n = -1, int rate_d = -1);
+// Legacy single-tensor `other/tensor` caps with the given rate (or any rate if rate_n < 0).
+GstCaps *legacy_tensor_caps(int rate_n = -1, int rate_d = -1);
 
 // Equivalent spellings of one dimension string: minimal rank up to max(rank, 4).
 std::vector<std::string> dim_spellings(const Dims &d);

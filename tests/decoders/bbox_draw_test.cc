@@ -95,11 +95,46 @@ TEST(BboxDraw, AxisAlignedBoxScaledLikeUpstream) {
   Frame f(160, 120);
   // mobilenet-ssd frame 0, first person: 300x300 input -> 160x120.
   auto p = nns::bbox::draw_box(f.c, box(91, 174, 79, 121), 300, 300, 1);
-  EXPECT_EQ(p.x, 48);  // floor(160 * 91 / 300)
-  EXPECT_EQ(p.y, 69);  // floor(120 * 174 / 300)
-  EXPECT_EQ(p.w, 42);  // floor(160 * 170 / 300) - 48
-  EXPECT_EQ(p.h, 49);  // min(119, floor(120 * 295 / 300)) - 69
+  EXPECT_EQ(p.x, 48);  // 160 * 91 / 300
+  EXPECT_EQ(p.y, 69);  // 120 * 174 / 300
+  EXPECT_EQ(p.w, 42);  // 160 * 170 / 300 - 48
+  EXPECT_EQ(p.h, 49);  // min(119, 120 * 295 / 300) - 69
   EXPECT_TRUE(f.on(48, 69) && f.on(90, 118));
+}
+
+// As NNStreamer's integer boxes: x and w are truncated separately, so the right edge of
+// x = 10.7, w = 20.6 is at 10 + 20 = 30, not floor(31.3) = 31.
+TEST(BboxDraw, FractionalBoxTruncatedLikeUpstream) {
+  Frame f(100, 100);
+  auto p = nns::bbox::draw_box(f.c, box(10.7f, 5.9f, 20.6f, 10.6f), 100, 100, 1);
+  EXPECT_EQ(p.x, 10);
+  EXPECT_EQ(p.y, 5);
+  EXPECT_EQ(p.w, 20);
+  EXPECT_EQ(p.h, 10);
+  EXPECT_TRUE(f.on(30, 10));
+  EXPECT_FALSE(f.on(31, 10));
+  EXPECT_TRUE(f.on(20, 15));
+  EXPECT_FALSE(f.on(20, 16));
+}
+
+// Each character writes its whole 8x13 cell: the glyph of the X11 misc-fixed 8x13 bold font in
+// the colour, every other pixel cleared (a box line under the cell is erased, as upstream).
+TEST(BboxDraw, TextCellsHoldMiscFixedGlyphsAndClearTheRest) {
+  Frame f(40, 20);
+  nns::bbox::draw_rect(f.c, 0, 5, 39, 5, 7);  // a line through the cells
+  nns::bbox::draw_text(f.c, 1, 0, "b\x01", 9);
+  // 'b' of 8x13B: rows 1-3 "##......", row 4 "##.###..", rows 11-12 empty.
+  const char *b[13] = {"........", "##......", "##......", "##......", "##.###..",
+                       "###..##.", "##...##.", "##...##.", "##...##.", "###..##.",
+                       "##.###..", "........", "........"};
+  for (int y = 0; y < 13; ++y)
+    for (int x = 0; x < 8; ++x)
+      EXPECT_EQ(f.px[static_cast<std::size_t>(y) * 40 + 1 + x], b[y][x] == '#' ? 9u : 0u)
+          << x << "," << y;
+  EXPECT_EQ(f.px[5 * 40 + 0], 7u);  // the line left of the cell stays
+  EXPECT_EQ(f.px[5 * 40 + 9], 7u);  // so does the column between cells
+  // A non-printable character shows as '*' (row 5 of its cell: "#######.").
+  for (int x = 0; x < 8; ++x) EXPECT_EQ(f.px[5 * 40 + 10 + x], x < 7 ? 9u : 0u) << x;
 }
 
 TEST(BboxDraw, RotatedBoxDrawnAsFourLines) {

@@ -159,6 +159,47 @@ TEST(PoseEstimation, HeatmapOnlyPeaksLinesAndMeta) {
   EXPECT_FALSE(r.kps[2].found);
 }
 
+// uint8 heatmaps (quantized models): read as value / 255, the same keypoints as float32.
+TEST(PoseEstimation, Uint8HeatmapsAccepted) {
+  std::string body = write_temp("body.txt", "head 1\nhand 0\n");
+  std::vector<uint8_t> u8(2 * 4 * 4, 0);
+  u8[(1 * 4 + 2) * 2 + 0] = 230;  // head at (2,1), score 230/255
+  u8[(3 * 4 + 0) * 2 + 1] = 100;  // hand at (0,3): 100/255 < 0.5 -> not found
+  HarnessPtr h(gst_harness_new_parse(
+      ("tensor_decoder mode=pose_estimation option1=40:40 option3=" + body).c_str()));
+  gst_harness_set_src_caps_str(h.get(),
+                               "other/tensors,format=static,num_tensors=1,types=uint8,"
+                               "dimensions=(string)2:4:4:1,framerate=0/1");
+  GstBuffer *in = gst_buffer_new_memdup(u8.data(), u8.size());
+  ASSERT_EQ(gst_harness_push(h.get(), in), GST_FLOW_OK);
+  GstBuffer *out = gst_harness_pull(h.get());
+  ASSERT_NE(out, nullptr);
+  auto *m = gst_buffer_get_video_region_of_interest_meta_id(out, 0);
+  ASSERT_NE(m, nullptr);
+  GstStructure *p = gst_video_region_of_interest_meta_get_param(m, "pose");
+  ASSERT_NE(p, nullptr);
+  const GValue *list = gst_structure_get_value(p, "keypoints");
+  ASSERT_EQ(gst_value_list_get_size(list), 2u);
+  const GstStructure *head = gst_value_get_structure(gst_value_list_get_value(list, 0));
+  const GstStructure *hand = gst_value_get_structure(gst_value_list_get_value(list, 1));
+  int x = -1, y = -1;
+  double score = 0;
+  gboolean found = FALSE;
+  gst_structure_get(head, "x", G_TYPE_INT, &x, "y", G_TYPE_INT, &y, "score", G_TYPE_DOUBLE, &score,
+                    "found", G_TYPE_BOOLEAN, &found, nullptr);
+  EXPECT_EQ(x, 20);
+  EXPECT_EQ(y, 10);
+  EXPECT_NEAR(score, 230.0 / 255, 1e-6);
+  EXPECT_TRUE(found);
+  gst_structure_get(hand, "found", G_TYPE_BOOLEAN, &found, nullptr);
+  EXPECT_FALSE(found);
+  std::vector<uint8_t> px(gst_buffer_get_size(out));
+  gst_buffer_extract(out, 0, px.data(), px.size());
+  EXPECT_EQ(std::vector<uint8_t>(px.begin() + (10 * 40 + 20) * 4, px.begin() + (10 * 40 + 21) * 4),
+            kYellow);
+  gst_buffer_unref(out);
+}
+
 TEST(PoseEstimation, Default17KeypointBodyAndGridScale) {
   // No option2: heatmap-only scales from the heatmap grid (9x9 -> 90x90).
   Heat hm(17, 9, 9);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// join: first-come forwarding from N request pads, EOS once all linked pads ended, caps
-// switching between pads, read-only properties, pad release.
+// join: first-come forwarding from N request pads, EOS once all linked pads ended, different
+// caps on the sink pads refused (as upstream), read-only properties, pad release.
 #include <gtest/gtest.h>
 
 #include "elements/cycle_check.h"
@@ -52,29 +52,22 @@ TEST(Join, ForwardsEveryBufferFromEveryPadAndEndsAfterAll) {
   gst_object_unref(join);
 }
 
-TEST(Join, SwitchesCapsWithTheActivePad) {
-  AppPipeline p(
-      "appsrc name=a ! join.sink_0 appsrc name=b ! join.sink_1 "
-      "join name=join ! appsink name=out");
-  p.set_caps("a", static_caps("2", "uint8"));
-  p.set_caps("b", static_caps("1", "float32"));
-  p.push("a", Frame({Bytes{5, 6}}, 0));
-  p.eos("a");
-  auto r = [&] {
-    // b pushes after a's data is through, so the order is deterministic.
-    GstElement *pipe = p.pipeline();
-    gst_element_set_state(pipe, GST_STATE_PLAYING);
-    for (int i = 0; i < 200 && p.frames("out").empty(); ++i) g_usleep(1000);
-    p.push("b", Frame({nns::test::bytes_of(std::vector<float>{1.5f})}, GST_MSECOND));
-    p.eos("b");
-    return p.run(10);
-  }();
-  ASSERT_TRUE(r.eos) << r.error_text;
-  auto out = p.frames("out");
-  ASSERT_EQ(out.size(), 2u);
-  EXPECT_NE(out[0].caps.find("types=(string)uint8"), std::string::npos) << out[0].caps;
-  EXPECT_NE(out[1].caps.find("types=(string)float32"), std::string::npos) << out[1].caps;
-  EXPECT_EQ(nns::test::values_of<float>(out[1].mems[0]).at(0), 1.5f);
+// As upstream's join: sink pads must carry the same caps. The second pad's different caps are
+// refused (not-negotiated for its branch) with a bus error naming both pads and both caps.
+TEST(Join, SinkPadsWithDifferentCapsFailNegotiation) {
+  auto r = nns::test::run_pipeline(
+      "videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=160,height=120 ! "
+      "tensor_converter ! join.sink_0 "
+      "videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=480,height=240 ! "
+      "tensor_converter ! join.sink_1 join name=join ! fakesink",
+      10);
+  ASSERT_TRUE(r.error) << "negotiated";
+  EXPECT_NE(r.error_text.find("the caps of every sink pad must be the same"), std::string::npos)
+      << r.error_text;
+  EXPECT_NE(r.error_text.find("3:160:120:1"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("3:480:240:1"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("sink_0"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("sink_1"), std::string::npos) << r.error_text;
 }
 
 TEST(Join, UnlinkedAndReleasedPadsDoNotHoldEos) {

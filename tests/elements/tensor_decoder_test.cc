@@ -271,13 +271,43 @@ TEST(TensorDecoderErrors, UnknownModeListsAvailable) {
   EXPECT_NE(r.error_text.find("tensordecoder0"), std::string::npos) << r.error_text;
 }
 
-TEST(TensorDecoderErrors, RejectedOptionNamesNumberAndValue) {
+// As upstream: an unknown option1 is no error; the default format of the channel count is used
+// and a bus warning names the option and its value.
+TEST(TensorDecoder, DirectVideoUnknownOption1WarnsAndUsesDefault) {
   auto r = run_pipeline(
       "videotestsrc num-buffers=1 ! video/x-raw,format=RGB,width=4,height=4 ! tensor_converter "
-      "! tensor_decoder mode=direct_video option1=NV12 ! fakesink");
+      "! tensor_decoder mode=direct_video option1=NV12 ! video/x-raw,format=RGB ! fakesink");
+  EXPECT_TRUE(r.eos) << r.error_text;
+  EXPECT_NE(r.warning_text.find("option1='NV12'"), std::string::npos) << r.warning_text;
+  EXPECT_NE(r.warning_text.find("not a supported video format"), std::string::npos)
+      << r.warning_text;
+}
+
+// GRAY16_LE / GRAY16_BE from a 2-byte tensor: bytes copied as they are, rows padded to 4 bytes
+// (3 pixels x 2 bytes = 6 -> stride 8).
+TEST(TensorDecoder, DirectVideoGray16) {
+  for (const char *fmt : {"GRAY16_LE", "GRAY16_BE"}) {
+    SCOPED_TRACE(fmt);
+    std::vector<uint8_t> in(2 * 3 * 2);
+    for (std::size_t i = 0; i < in.size(); ++i) in[i] = static_cast<uint8_t>(i + 1);
+    OneShot r;
+    run_one(r, std::string("mode=direct_video option1=") + fmt,
+            "other/tensors,format=static,num_tensors=1,types=uint16,dimensions=(string)1:3:2:1,"
+            "framerate=0/1",
+            in);
+    EXPECT_NE(r.out_caps.find(std::string("format=(string)") + fmt), std::string::npos)
+        << r.out_caps;
+    EXPECT_NE(r.out_caps.find("width=(int)3"), std::string::npos) << r.out_caps;
+    std::vector<uint8_t> want = {1, 2, 3, 4, 5, 6, 0, 0, 7, 8, 9, 10, 11, 12, 0, 0};
+    EXPECT_EQ(buffer_bytes(r.out), want);
+  }
+}
+
+TEST(TensorDecoderErrors, DirectVideoGray16NeedsTwoByteElements) {
+  auto r = run_pipeline(tensor_src("1:4:4:1", 16) +
+                        "tensor_decoder mode=direct_video option1=GRAY16_LE ! fakesink");
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("option1='NV12'"), std::string::npos) << r.error_text;
-  EXPECT_NE(r.error_text.find("not a supported video format"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("format GRAY16_LE needs 2"), std::string::npos) << r.error_text;
 }
 
 TEST(TensorDecoderErrors, MissingLabelFile) {
@@ -364,4 +394,41 @@ TEST(TensorDecoder, OctetStreamRoundTripsThroughTheConverter) {
   ASSERT_TRUE(r.eos) << r.error_text;
   auto got = nns::test::read_file(out);
   EXPECT_EQ(std::string(got.begin(), got.end()), payload);
+}
+
+// As GstHarness tests and applications do with NNStreamer: created and PLAYING with default
+// properties (no mode), configured afterwards. The state change succeeds; caps arriving before
+// the mode is set get a bus error naming the property.
+TEST(TensorDecoder, PlayingWithoutModeThenConfigured) {
+  const char *caps =
+      "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=(string)1:4:2:1,"
+      "framerate=0/1";
+  {
+    HarnessPtr h(gst_harness_new("tensor_decoder"));
+    EXPECT_NE(gst_element_set_state(h->element, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+    g_object_set(h->element, "mode", "direct_video", nullptr);
+    gst_harness_set_src_caps_str(h.get(), caps);
+    std::vector<uint8_t> in(8, 5);
+    ASSERT_EQ(gst_harness_push(h.get(), bytes_buffer(in)), GST_FLOW_OK);
+    GstBuffer *out = gst_harness_pull(h.get());
+    ASSERT_NE(out, nullptr);
+    EXPECT_EQ(buffer_bytes(out), in);
+    gst_buffer_unref(out);
+  }
+  HarnessPtr h(gst_harness_new("tensor_decoder"));
+  GstBus *bus = gst_bus_new();
+  gst_element_set_bus(h->element, bus);
+  EXPECT_NE(gst_element_set_state(h->element, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+  gst_harness_set_src_caps_str(h.get(), caps);
+  EXPECT_NE(gst_harness_push(h.get(), bytes_buffer(std::vector<uint8_t>(8))), GST_FLOW_OK);
+  GstMessage *msg = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR);
+  ASSERT_NE(msg, nullptr);
+  GError *err = nullptr;
+  gst_message_parse_error(msg, &err, nullptr);
+  std::string text = err->message;
+  g_error_free(err);
+  gst_message_unref(msg);
+  EXPECT_NE(text.find("property 'mode' is not set"), std::string::npos) << text;
+  gst_element_set_bus(h->element, nullptr);
+  gst_object_unref(bus);
 }

@@ -7,6 +7,8 @@
 #include <atomic>
 
 #include "elements/filter_test_util.h"
+#include "gst/gst_ptr.h"
+#include "gst/tensor_caps.h"
 
 using namespace nns::test;
 
@@ -361,4 +363,53 @@ TEST(TensorFilter, CustomModelRelativeToWorkingDirectory) {
                         "tensor_filter framework=custom model=libcustom_passthrough.so ! fakesink");
   ASSERT_EQ(chdir(old), 0);
   EXPECT_TRUE(r.eos) << r.error_text;
+}
+
+// tensor_filter answers the caps query from upstream with the model's input, so the elements
+// before it negotiate to the model: videoscale scales to 280x40 for a 3:280:40:1 uint8 model.
+TEST(TensorFilter, UpstreamNegotiatesToTheModelInput) {
+  EasyModel m("tf_easy_280x40", easy_copy, nullptr, _NNS_UINT8, {3, 280, 40, 1}, {3, 280, 40, 1});
+  g_easy_calls = 0;
+  GError *err = nullptr;
+  nns::gst::ElementPtr pipe(gst_parse_launch(
+      "videotestsrc num-buffers=2 ! videoscale ! video/x-raw,format=RGB ! tensor_converter ! "
+      "tensor_filter name=tf framework=custom-easy model=tf_easy_280x40 ! fakesink",
+      &err));
+  ASSERT_EQ(err, nullptr) << err->message;
+  GstElement *tf = gst_bin_get_by_name(GST_BIN(pipe.get()), "tf");
+  std::string caps;
+  GstPad *sink = gst_element_get_static_pad(tf, "sink");
+  gulong id = gst_pad_add_probe(
+      sink, GST_PAD_PROBE_TYPE_EVENT_DOWNSTREAM,
+      [](GstPad *, GstPadProbeInfo *info, gpointer user) {
+        GstEvent *ev = GST_PAD_PROBE_INFO_EVENT(info);
+        if (GST_EVENT_TYPE(ev) == GST_EVENT_CAPS) {
+          GstCaps *c = nullptr;
+          gst_event_parse_caps(ev, &c);
+          *static_cast<std::string *>(user) = nns::gst::caps_to_string(c);
+        }
+        return GST_PAD_PROBE_OK;
+      },
+      &caps, nullptr);
+  auto r = run_pipeline(pipe.get());
+  gst_pad_remove_probe(sink, id);
+  gst_object_unref(sink);
+  gst_object_unref(tf);
+  EXPECT_TRUE(r.eos) << r.error_text;
+  EXPECT_EQ(g_easy_calls.load(), 2);
+  EXPECT_NE(caps.find("3:280:40:1"), std::string::npos) << caps;
+}
+
+// Caps honesty: a capsfilter asking for another type than the model produces does not get a
+// flexible stream whose caps say so; negotiation fails naming both types.
+TEST(TensorFilter, CapsfilterAskingAnotherTypeFailsNamingBoth) {
+  EasyModel m("tf_easy_types", easy_copy, nullptr, _NNS_UINT8, {3, 4, 4, 1}, {3, 4, 4, 1});
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=1 ! video/x-raw,format=RGB,width=4,height=4 ! tensor_converter ! "
+      "tensor_filter name=tf framework=custom-easy model=tf_easy_types ! "
+      "other/tensors,types=float32 ! fakesink");
+  ASSERT_TRUE(r.error) << "negotiated";
+  EXPECT_EQ(r.error_source, "tf") << r.error_text;
+  EXPECT_NE(r.error_text.find("say types=float32"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("produces uint8"), std::string::npos) << r.error_text;
 }

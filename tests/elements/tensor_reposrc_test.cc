@@ -115,6 +115,25 @@ TEST(TensorRepo, SinkCapsThatDisagreeWithCapsPropertyAreABusError) {
   EXPECT_NE(r.error_text.find("(float32 4)"), std::string::npos) << r.error_text;
 }
 
+// Matching caps, but the buffers in the slot are not what they describe (12 bytes for float32 4):
+// a bus error naming the caps property and what arrived, not buffers pushed under wrong caps.
+TEST(TensorRepo, TensorsThatDisagreeWithCapsPropertyAreABusError) {
+  AppPipeline p("appsrc name=in ! tensor_reposink slot-index=32 " + repo_src(32, kF4Caps) +
+                " ! fakesink");
+  p.set_caps("in", kF4Caps);
+  for (int i = 0; i < 3; ++i) p.push("in", Frame({Bytes(12, 1)}, i * GST_MSECOND));
+  p.eos("in");
+  auto r = p.run(10);
+  ASSERT_TRUE(r.error) << (r.timed_out ? "timed out" : "eos");
+  EXPECT_NE(r.error_text.find("rsrc: slot 32: the tensors that arrived do not match the caps "
+                              "property"),
+            std::string::npos)
+      << r.error_text;
+  EXPECT_NE(r.error_text.find("(float32 4)"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("tensor 0 has 12 bytes, expected 16"), std::string::npos)
+      << r.error_text;
+}
+
 TEST(TensorRepo, MissingOrBadCapsPropertyIsABusError) {
   auto r = nns::test::run_pipeline("tensor_reposrc name=rsrc ! fakesink", 10);
   ASSERT_TRUE(r.error);

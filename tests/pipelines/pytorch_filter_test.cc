@@ -125,6 +125,47 @@ TEST(PytorchPipeline, InvokeDynamicFlexibleOutput) {
 
 // ---- bus errors ----
 
+// silent=false prints the accelerator the way NNStreamer's pytorch sub-plugin does
+// (g_message "gpu = N, accl = X"); silent=true (the default) prints nothing.
+std::vector<std::string> *g_messages = nullptr;
+void collect_message(const gchar *, GLogLevelFlags, const gchar *message, gpointer) {
+  if (g_messages) g_messages->push_back(message);
+}
+
+TEST(PytorchPipeline, SilentFalsePrintsAccelerator) {
+  REQUIRE_PYTORCH_PIPELINE();
+  std::vector<std::string> got;
+  g_messages = &got;
+  const guint id = g_log_set_handler(nullptr, G_LOG_LEVEL_MESSAGE, collect_message, nullptr);
+  struct Case {
+    const char *props, *want;
+  };
+  const Case cases[] = {
+      {"silent=false", "gpu = 0, accl = none"},
+      {"silent=false accelerator=true:cpu", "gpu = 0, accl = cpu"},
+      {"silent=false accelerator=true:gpu,cpu", "gpu = 0, accl = cpu"},  // no CUDA here
+      {"accelerator=true:cpu", nullptr},
+  };
+  for (const Case &k : cases) {
+    SCOPED_TRACE(k.props);
+    got.clear();
+    Captured c = run_capture(lenet_src() + "tensor_filter framework=pytorch model=" + models() +
+                             "pytorch_lenet5.pt " + k.props + " ! tensor_sink name=sink");
+    EXPECT_TRUE(c.run.eos) << c.run.error_text;
+    const auto n = std::count_if(got.begin(), got.end(),
+                                 [](const std::string &m) { return m.rfind("gpu = ", 0) == 0; });
+    if (k.want) {
+      EXPECT_EQ(n, 1) << ::testing::PrintToString(got);
+      EXPECT_NE(std::find(got.begin(), got.end(), k.want), got.end())
+          << ::testing::PrintToString(got);
+    } else {
+      EXPECT_EQ(n, 0) << ::testing::PrintToString(got);
+    }
+  }
+  g_log_remove_handler(nullptr, id);
+  g_messages = nullptr;
+}
+
 TEST(PytorchPipelineErrors, MissingModel) {
   REQUIRE_PYTORCH_PIPELINE();
   auto r = nns::test::run_pipeline(lenet_src() +

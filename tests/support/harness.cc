@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 #include "support/harness.h"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -11,9 +12,22 @@ RunResult run_pipeline(GstElement *pipeline, double timeout_s) {
   GstBus *bus = gst_element_get_bus(pipeline);
   GstStateChangeReturn sret = gst_element_set_state(pipeline, GST_STATE_PLAYING);
   (void)sret;  // failures arrive as bus errors
-  GstClockTime deadline = static_cast<GstClockTime>(timeout_s * GST_SECOND);
-  GstMessage *msg = gst_bus_timed_pop_filtered(
-      bus, deadline, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  const gint64 end = g_get_monotonic_time() + static_cast<gint64>(timeout_s * G_USEC_PER_SEC);
+  GstMessage *msg = nullptr;
+  for (;;) {
+    const gint64 left = std::max<gint64>(0, end - g_get_monotonic_time());
+    msg = gst_bus_timed_pop_filtered(
+        bus, static_cast<GstClockTime>(left) * GST_USECOND,
+        static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR | GST_MESSAGE_WARNING));
+    if (!msg || GST_MESSAGE_TYPE(msg) != GST_MESSAGE_WARNING) break;
+    GError *err = nullptr;
+    gchar *dbg = nullptr;
+    gst_message_parse_warning(msg, &err, &dbg);
+    r.warning_text += std::string(err->message) + " | " + (dbg ? dbg : "") + "\n";
+    g_error_free(err);
+    g_free(dbg);
+    gst_message_unref(msg);
+  }
   if (!msg) {
     r.timed_out = true;
   } else if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_EOS) {

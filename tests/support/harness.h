@@ -28,6 +28,7 @@ struct RunResult {
   bool timed_out = false;
   std::string error_text;    // "<message> | <debug>"
   std::string error_source;  // element name that posted the error
+  std::string warning_text;  // every WARNING message before the end: "<message> | <debug>\n"...
   GQuark error_domain = 0;
   int error_code = 0;
 };

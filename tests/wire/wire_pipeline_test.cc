@@ -290,6 +290,68 @@ TEST(WirePipeline, FlexibleFrameThroughConverterAndDecoder) {
   EXPECT_EQ(want, nns::test::read_file(out));
 }
 
+// Flexible input to the wire decoders, as NNStreamer does it: the frame says format=flexible and
+// each tensor's data is its whole memory, 128-byte header included; the converter reads such a
+// frame back into the same flexible memories.
+TEST(WirePipeline, FlexibleInputKeepsHeadersInFrameAndRoundTrips) {
+  std::vector<std::vector<uint8_t>> mems;
+  const std::pair<nns::TensorType, nns::Dims> specs[] = {{nns::TensorType::kUInt8, {5}},
+                                                         {nns::TensorType::kFloat32, {2, 3}}};
+  for (const auto &sp : specs) {
+    nns::MetaHeader h;
+    h.type = sp.first;
+    h.dims = sp.second;
+    h.format = nns::TensorFormat::kFlexible;
+    std::vector<uint8_t> m(nns::kMetaHeaderSize + h.payload_size());
+    nns::write_meta_header(h, m.data());
+    for (std::size_t k = nns::kMetaHeaderSize; k < m.size(); ++k)
+      m[k] = static_cast<uint8_t>(k * 3 + mems.size());
+    mems.push_back(std::move(m));
+  }
+  auto flexible_buffer = [&] {
+    GstBuffer *in = gst_buffer_new();
+    for (const auto &m : mems) {
+      gpointer copy = g_memdup2(m.data(), m.size());
+      gst_buffer_append_memory(in, gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, copy, m.size(),
+                                                          0, m.size(), copy, g_free));
+    }
+    return in;
+  };
+  const char *in_caps = "other/tensors,format=flexible,framerate=(fraction)10/1";
+  for (Format fmt : kFormats) {
+    SCOPED_TRACE(nns::wire::format_name(fmt));
+    const std::string mode = std::string("tensor_decoder mode=") + nns::wire::format_name(fmt);
+    HarnessPtr h(gst_harness_new_parse(mode.c_str()));
+    gst_harness_set_src_caps_str(h.get(), in_caps);
+    ASSERT_EQ(GST_FLOW_OK, gst_harness_push(h.get(), flexible_buffer()));
+    GstBuffer *out = gst_harness_pull(h.get());
+    ASSERT_NE(nullptr, out);
+    std::vector<uint8_t> bytes(gst_buffer_get_size(out));
+    gst_buffer_extract(out, 0, bytes.data(), bytes.size());
+    gst_buffer_unref(out);
+    nns::wire::Frame f = nns::wire::decode(fmt, bytes.data(), bytes.size());
+    EXPECT_EQ(1u, f.format);
+    ASSERT_EQ(2u, f.tensors.size());
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_EQ(mems[i],
+                std::vector<uint8_t>(f.tensors[i].data, f.tensors[i].data + f.tensors[i].size))
+          << i;
+      EXPECT_EQ(static_cast<uint32_t>(specs[i].first), f.tensors[i].type) << i;
+      EXPECT_EQ(specs[i].second[0], f.tensors[i].dims[0]) << i;
+    }
+
+    HarnessPtr rt(gst_harness_new_parse((mode + " ! tensor_converter").c_str()));
+    gst_harness_set_src_caps_str(rt.get(), in_caps);
+    ASSERT_EQ(GST_FLOW_OK, gst_harness_push(rt.get(), flexible_buffer()));
+    GstBuffer *back = gst_harness_pull(rt.get());
+    ASSERT_NE(nullptr, back);
+    ASSERT_EQ(2u, gst_buffer_n_memory(back));
+    for (guint i = 0; i < 2; ++i) EXPECT_EQ(mems[i], bytes_of(gst_buffer_peek_memory(back, i)));
+    gst_buffer_unref(back);
+    EXPECT_NE(std::string::npos, caps_of(rt->sinkpad).find("flexible")) << caps_of(rt->sinkpad);
+  }
+}
+
 // Misaligned single-memory input (a share at byte 1) and multi-memory input: the converter
 // copies to aligned memory for the flatbuffers formats and decodes exactly.
 GstMemory *owned_memory(const uint8_t *p, std::size_t n) {

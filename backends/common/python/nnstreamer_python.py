@@ -23,7 +23,10 @@ class TensorShape:
     """Dimensions (innermost first) and numpy element type of one tensor.
 
     getDims() returns the stored list itself, so a script may edit it in place
-    (dims = shape.getDims(); dims[1] = 320) as NNStreamer's own module allows.
+    (dims = shape.getDims(); dims[1] = 320) as NNStreamer's own module allows. The list given to
+    the constructor or setDims() is copied: a shape built from another shape's getDims() and then
+    edited leaves the other shape alone (NNStreamer's module copies the rank-16 lists it hands
+    out the same way).
     """
 
     __slots__ = ("dims", "type")
@@ -40,9 +43,8 @@ class TensorShape:
                 raise TypeError("TensorShape: %r is not a numpy element type" % (type,)) from e
 
     def setDims(self, dims):
-        """Sets the dimensions (a list of ints, innermost first)."""
-        if not isinstance(dims, list):
-            dims = list(dims)
+        """Sets the dimensions (a list of ints, innermost first; the list is copied)."""
+        dims = list(dims)  # a copy: the caller's list stays the caller's
         if len(dims) > RANK_LIMIT:
             raise ValueError("TensorShape: rank %d exceeds the limit %d" % (len(dims), RANK_LIMIT))
         self.dims = dims

@@ -43,4 +43,27 @@ inline size_t c_elements(const GstTensorInfo &t) {
   return n;
 }
 
+// Bytes of one element of a C tensor type (0 for an invalid type).
+inline unsigned c_element_size(tensor_type t) {
+  switch (t) {
+    case _NNS_INT64:
+    case _NNS_UINT64:
+    case _NNS_FLOAT64:
+      return 8;
+    case _NNS_INT32:
+    case _NNS_UINT32:
+    case _NNS_FLOAT32:
+      return 4;
+    case _NNS_INT16:
+    case _NNS_UINT16:
+    case _NNS_FLOAT16:
+      return 2;
+    case _NNS_INT8:
+    case _NNS_UINT8:
+      return 1;
+    default:
+      return 0;
+  }
+}
+
 }  // namespace nns::dec

@@ -11,7 +11,8 @@
 // 14-keypoint heatmap uses the 14-point body (top, neck, shoulders, ...) and a 17-keypoint one
 // the COCO/PoseNet body. option4: heatmap-only (default) | heatmap-offset.
 //
-// Input: tensor 0 float32 [K:W:H:1] heatmaps; heatmap-offset adds tensor 1 float32 [2K:W:H:1]
+// Input: tensor 0 float32 or uint8 [K:W:H:1] heatmaps (uint8 is read as value / 255, a score in
+// 0..1, as quantized models output it); heatmap-offset adds tensor 1 float32 [2K:W:H:1]
 // offsets (y offsets in channels 0..K-1, x offsets in K..2K-1, in option2 pixels) and reads the
 // heatmap through a sigmoid. A keypoint is found when its best score is >= 0.5.
 //
@@ -63,6 +64,7 @@ struct PoseDecoder {
   std::string file;
   std::vector<KeypointDesc> body;  // from option3; empty = default by keypoint count
   std::vector<Keypoint> points;    // scratch, sized at negotiation
+  std::vector<float> heat;         // uint8 heatmaps as scores (allocated on the first frame)
 };
 
 // The 14-point body of upstream's default (heatmap models such as CPM/hourglass).
@@ -210,10 +212,13 @@ int pe_set_option(void **pdata, int op, const char *param) {
   }
 }
 
-// Checks one tensor is float32 [c:W:H:1]; c == 0 skips the channel check.
-bool check_map(PoseDecoder *d, const GstTensorInfo &t, unsigned idx, const char *what, unsigned c) {
-  if (t.type != _NNS_FLOAT32) {
-    d->err.set("tensor %u (%s) must be float32, got type %d", idx, what, static_cast<int>(t.type));
+// Checks one tensor is float32 (or uint8 if `uint8_ok`) [c:W:H:1]; c == 0 skips the channel
+// check.
+bool check_map(PoseDecoder *d, const GstTensorInfo &t, unsigned idx, const char *what, unsigned c,
+               bool uint8_ok) {
+  if (t.type != _NNS_FLOAT32 && !(uint8_ok && t.type == _NNS_UINT8)) {
+    d->err.set("tensor %u (%s) must be float32%s, got type %d", idx, what,
+               uint8_ok ? " or uint8" : "", static_cast<int>(t.type));
     return false;
   }
   for (unsigned i = 3; i < NNS_TENSOR_RANK_LIMIT && t.dimension[i]; ++i)
@@ -239,7 +244,7 @@ bool check_input(PoseDecoder *d, const GstTensorsConfig *config) {
   }
   const GstTensorInfo &heat = config->info.info[0];
   unsigned k = heat.dimension[0];
-  if (!check_map(d, heat, 0, "heatmaps", 0)) return false;
+  if (!check_map(d, heat, 0, "heatmaps", 0, true)) return false;
   if (k && !body_for(d, k)) {
     d->err.set("the heatmaps have %u keypoints; without option3 only 14 or 17 are known", k);
     return false;
@@ -251,7 +256,7 @@ bool check_input(PoseDecoder *d, const GstTensorsConfig *config) {
   }
   if (offset) {
     const GstTensorInfo &off = config->info.info[1];
-    if (!check_map(d, off, 1, "offsets", 2 * k)) return false;
+    if (!check_map(d, off, 1, "offsets", 2 * k, false)) return false;
     for (int i = 1; i < 3; ++i)
       if (heat.dimension[i] && off.dimension[i] && heat.dimension[i] != off.dimension[i]) {
         d->err.set("offsets grid %ux%u differs from the heatmap grid %ux%u", off.dimension[1],
@@ -392,10 +397,19 @@ GstFlowReturn pe_decode(void **pdata, const GstTensorsConfig *config, const GstT
   const GstTensorInfo &heat = config->info.info[0];
   const unsigned k = heat.dimension[0], gw = heat.dimension[1] ? heat.dimension[1] : 1,
                  gh = heat.dimension[2] ? heat.dimension[2] : 1;
-  const size_t need = static_cast<size_t>(k) * gw * gh * sizeof(float);
-  if (input[0].size < need) {
-    d->err.set("tensor 0 (heatmaps) has %zu bytes, expected %zu", input[0].size, need);
+  const size_t cells = static_cast<size_t>(k) * gw * gh, need = cells * sizeof(float);
+  const bool heat_u8 = heat.type == _NNS_UINT8;
+  if (input[0].size < (heat_u8 ? cells : need)) {
+    d->err.set("tensor 0 (heatmaps) has %zu bytes, expected %zu", input[0].size,
+               heat_u8 ? cells : need);
     return GST_FLOW_ERROR;
+  }
+  const float *scores = static_cast<const float *>(input[0].data);
+  if (heat_u8) {
+    d->heat.resize(cells);
+    const auto *u = static_cast<const uint8_t *>(input[0].data);
+    for (size_t i = 0; i < cells; ++i) d->heat[i] = u[i] / 255.0f;
+    scores = d->heat.data();
   }
   const float *off = nullptr;
   if (d->mode == Mode::kHeatmapOffset) {
@@ -407,7 +421,7 @@ GstFlowReturn pe_decode(void **pdata, const GstTensorsConfig *config, const GstT
   }
   const std::vector<KeypointDesc> &body = *body_for(d, k);
   d->points.resize(k);  // allocates on the first frame only
-  locate(d, static_cast<const float *>(input[0].data), off, k, gw, gh);
+  locate(d, scores, off, k, gw, gh);
 
   const size_t size = static_cast<size_t>(d->out_w) * d->out_h * 4;
   GstMemory *mem = gst_allocator_alloc(nullptr, size, nullptr);

@@ -19,6 +19,7 @@
 // custom= keys (case-insensitive): use_gpu:true|false, NumThreads:N (process-wide intra-op
 // threads of libtorch), OptimizeForInference:true|false (freeze + optimize_for_inference at
 // load, default true). Unknown keys are rejected.
+#include <glib.h>
 #include <torch/script.h>
 
 #include <ATen/Parallel.h>
@@ -312,16 +313,24 @@ class TorchBackend final : public FilterBackend {
     // accelerator=: gpu needs a CUDA build with a device; cpu and generic names mean CPU.
     backend::AcceleratorRequest acc = backend::parse_accelerator(props.accelerator);
     bool want_gpu = false;
+    // What NNStreamer's pytorch sub-plugin reports: the accelerator taken from the list, "none"
+    // when none was asked for (or none the back end knows).
+    const char *accl = "none";
     if (acc.enabled) {
       for (const std::string &a : acc.wanted) {
         if (a == "gpu") {
           if (at::hasCUDA()) {
             want_gpu = true;
+            accl = "gpu";
             break;
           }
           continue;  // try the next accelerator in the list
         }
-        if (a == "cpu" || a == "cpu.simd" || a == "default" || a == "auto" || a == "none") break;
+        if (a == "cpu" || a == "cpu.simd" || a == "default" || a == "auto") {
+          accl = "cpu";
+          break;
+        }
+        if (a == "none") break;
       }
       bool only_gpu =
           !acc.wanted.empty() && std::all_of(acc.wanted.begin(), acc.wanted.end(),
@@ -350,6 +359,9 @@ class TorchBackend final : public FilterBackend {
       }
     }
     device_ = want_gpu ? at::Device(at::kCUDA) : at::Device(at::kCPU);
+    if (want_gpu) accl = "gpu";  // custom use_gpu:true
+    // silent=false: the line NNStreamer's pytorch sub-plugin prints (it does so always).
+    if (props.verbose) g_message("gpu = %d, accl = %s", want_gpu ? 1 : 0, accl);
     threads_ = threads;
     apply_threads();
   }

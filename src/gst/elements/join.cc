@@ -3,8 +3,10 @@
  * SECTION:element-join
  *
  * N-to-1 join: every buffer arriving on any request pad sink_%u is forwarded on src in arrival
- * order (no merging). When a different pad becomes active, its sticky events (caps, segment)
- * go downstream first, so pads may carry different caps and downstream renegotiates. EOS goes
+ * order (no merging). When a different pad becomes active, its sticky events (segment, ...)
+ * go downstream first. As upstream's join, every sink pad must carry the same caps: a CAPS event
+ * that differs from the caps another sink pad already has is refused (negotiation fails, with a
+ * bus error naming both pads and both caps). EOS goes
  * out once every linked sink pad has ended; releasing a pad re-checks that. Not tensor
  * specific. Read-only properties: n-pads, active-pad.
  *
@@ -18,6 +20,7 @@
 
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
+#include "gst/tensor_caps.h"
 
 GST_DEBUG_CATEGORY_STATIC(join_debug);
 #define GST_CAT_DEFAULT join_debug
@@ -106,10 +109,42 @@ static GstFlowReturn join_chain(GstPad *pad, GstObject *parent, GstBuffer *buf) 
   return gst_pad_push(self->srcpad, buf);
 }
 
+// The first other sink pad whose current caps differ from `caps`, with those caps (or nullptr).
+static std::pair<GstPad *, GstCaps *> other_caps_differing(JoinPriv *p, GstPad *pad,
+                                                           GstCaps *caps) {
+  for (auto &[other, eos] : p->eos) {
+    if (other == pad) continue;
+    GstCaps *have = gst_pad_get_current_caps(other);
+    if (!have) continue;
+    if (!gst_caps_is_equal(have, caps)) return {other, have};
+    gst_caps_unref(have);
+  }
+  return {nullptr, nullptr};
+}
+
 static gboolean join_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
   auto *self = GST_JOIN(parent);
   auto *p = self->priv;
   bool forward;
+  if (GST_EVENT_TYPE(event) == GST_EVENT_CAPS) {
+    GstCaps *caps = nullptr;
+    gst_event_parse_caps(event, &caps);
+    std::pair<GstPad *, GstCaps *> clash;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      clash = other_caps_differing(p, pad, caps);
+    }
+    if (clash.first) {
+      nns::gst::CapsPtr have(clash.second);
+      NNS_POST_ERROR(self, nns::ErrorKind::kNegotiation,
+                     std::string("the caps of every sink pad must be the same: ") +
+                         GST_PAD_NAME(pad) + " got " + nns::gst::caps_to_string(caps) + ", but " +
+                         GST_PAD_NAME(clash.first) + " has " +
+                         nns::gst::caps_to_string(have.get()));
+      gst_event_unref(event);
+      return FALSE;
+    }
+  }
   {
     std::lock_guard<std::mutex> l(p->lock);
     forward = (pad == p->active);

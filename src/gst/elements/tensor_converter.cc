@@ -147,6 +147,23 @@ bool in_custom_mode(GstTensorConverter *self) {
   return custom_mode;
 }
 
+// The tensors downstream prefers: its first structure, with a list of equivalent dimension
+// spellings (as tensor_filter and tensor_transform offer them) or of types reduced to its first
+// entry. Other unfixed fields (a framerate range) stay as they are: they describe no tensor.
+nns::TensorsConfig preferred_tensors(const GstCaps *peer) {
+  nns::gst::StructurePtr s(gst_structure_copy(gst_caps_get_structure(peer, 0)));
+  for (const char *field : {"dimensions", "dimension", "types", "type"}) {
+    const GValue *v = gst_structure_get_value(s.get(), field);
+    if (v && GST_VALUE_HOLDS_LIST(v) && gst_value_list_get_size(v) > 0) {
+      GValue first = G_VALUE_INIT;
+      g_value_init(&first, G_VALUE_TYPE(gst_value_list_get_value(v, 0)));
+      g_value_copy(gst_value_list_get_value(v, 0), &first);
+      gst_structure_take_value(s.get(), field, &first);
+    }
+  }
+  return nns::gst::config_from_structure(s.get());
+}
+
 GstCaps *sink_query_caps(GstTensorConverter *self, GstCaps *filter) {
   // mode=custom-code/custom-script: the callback or script decides what it reads (e.g. a
   // Python script parsing other/flexbuf), so any input is offered.
@@ -157,10 +174,12 @@ GstCaps *sink_query_caps(GstTensorConverter *self, GstCaps *filter) {
     if (peer && !gst_caps_is_any(peer.get()) && !gst_caps_is_empty(peer.get()) &&
         nns::gst::is_tensor_caps(peer.get())) {
       try {
-        nns::TensorsConfig pc = nns::gst::config_from_caps(peer.get());
+        nns::TensorsConfig pc = preferred_tensors(peer.get());
+        // What downstream wants first (upstream elements fixate to it, e.g. videoscale to a
+        // model's 280x40), then everything else: a source already fixed on other media still
+        // links, and the element that cannot take the result says why.
         GstCaps *narrowed = nns::gst::media_caps_for_tensor(pc, caps);
-        gst_caps_unref(caps);
-        caps = narrowed;
+        caps = gst_caps_merge(narrowed, caps);
       } catch (const nns::Error &) {
       }
     }

@@ -7,7 +7,9 @@
  * option1..option9, or with an application callback (mode=custom-code option1=<name>).
  * Static and flexible input: for a flexible stream the tensors are read from each buffer's
  * headers, the decoder sees them as a static config (headers stripped) and the output caps are
- * negotiated again whenever they change.
+ * negotiated again whenever they change. The serialising modes (protobuf, flatbuf, flexbuf) get
+ * the flexible config and each tensor with its 128-byte header instead, as upstream passes them,
+ * so the bytes they write keep the headers.
  *
  *   gst-launch-1.0 videotestsrc num-buffers=3 ! video/x-raw,format=RGB,width=64,height=48 !
  *     tensor_converter ! tensor_decoder mode=direct_video ! videoconvert ! fakesink
@@ -59,6 +61,8 @@ struct DecoderPriv {
   std::optional<nns::gst::CustomDecoder> custom;
   nns::CTensorsConfig in_config;
   nns::TensorsConfig in_cfg;  // static config the decoder sees
+  // Flexible input given to the decoder as it is (headers kept, config format flexible).
+  bool raw_flexible = false;
   // Flexible input: upstream caps are format=flexible; flex_cfg is the static config the
   // headers of the last buffer described (flex_known once a buffer came).
   bool flexible = false;
@@ -101,9 +105,22 @@ std::string decoder_reason(void *pdata) {
   return std::string(msg, strnlen(msg, 512));
 }
 
+// Modes that serialise the tensors: with flexible input they get the memories with their
+// headers and a flexible config, as NNStreamer hands them over (the headers end up in the bytes).
+bool keeps_flexible_headers(const std::string &mode) {
+  return mode == "protobuf" || mode == "flatbuf" || mode == "flexbuf";
+}
+
+// Empties the message a built-in decoder left in its private data (see decoder_reason).
+void clear_decoder_reason(void *pdata) {
+  if (!decoder_reason(pdata).empty()) static_cast<char *>(pdata)[8] = '\0';
+}
+
 // Creates the decoder for the current mode and applies the options. Throws nns::Error with a
-// message naming the mode or option. Caller holds p->lock.
-void configure(DecoderPriv *p) {
+// message naming the mode or option. A built-in decoder that accepts an option but leaves a
+// message (e.g. direct_video's unknown format, replaced by the default) gets it posted as a
+// warning on `element`'s bus. Caller holds p->lock.
+void configure(DecoderPriv *p, GstElement *element) {
   if (p->configured) return;
   if (!p->config_problems.empty())
     throw nns::Error(nns::ErrorKind::kSettings,
@@ -144,6 +161,12 @@ void configure(DecoderPriv *p) {
       throw nns::Error(nns::ErrorKind::kSettings,
                        "mode '" + p->mode + "' rejected option" + std::to_string(i + 1) + "='" +
                            *p->options[i] + "'" + (why.empty() ? "" : ": " + why));
+    }
+    std::string note = decoder_reason(pdata);
+    if (!note.empty()) {
+      clear_decoder_reason(pdata);
+      NNS_POST_WARNING(element, "mode '" + p->mode + "' option" + std::to_string(i + 1) + "='" +
+                                    *p->options[i] + "': " + note);
     }
   }
   p->def = def;
@@ -286,7 +309,7 @@ static GstCaps *gst_tensor_decoder_transform_caps(GstBaseTransform *trans,
       auto *p = self->priv;
       std::lock_guard<std::mutex> l(p->lock);
       try {
-        configure(p);
+        configure(p, GST_ELEMENT(self));
       } catch (const nns::Error &) {
         // Linking may query caps before the settings are complete; start() reports them.
         return gst_caps_new_any();
@@ -317,7 +340,7 @@ static GstCaps *gst_tensor_decoder_fixate_caps(GstBaseTransform *trans, GstPadDi
     GstCaps *supposed;
     {
       std::lock_guard<std::mutex> l(p->lock);
-      configure(p);
+      configure(p, GST_ELEMENT(self));
       GstCaps *fixed_in = gst_caps_fixate(gst_caps_ref(caps));
       supposed = out_caps_for(p, gst_caps_get_structure(fixed_in, 0));
       gst_caps_unref(fixed_in);
@@ -341,7 +364,7 @@ static gboolean gst_tensor_decoder_set_caps(GstBaseTransform *trans, GstCaps *in
   return nns::gst::guard(self, FALSE, [&] {
     auto *p = self->priv;
     std::lock_guard<std::mutex> l(p->lock);
-    configure(p);
+    configure(p, GST_ELEMENT(self));
     nns::TensorsConfig cfg = nns::gst::config_from_caps(incaps);
     if (cfg.info.format == nns::TensorFormat::kFlexible) {
       // Renegotiation (RECONFIGURE) with the flexible sink caps: use the last headers.
@@ -352,6 +375,8 @@ static gboolean gst_tensor_decoder_set_caps(GstBaseTransform *trans, GstCaps *in
     }
     p->in_cfg = cfg;
     nns::to_c(p->in_cfg, p->in_config.get());
+    p->raw_flexible = p->flexible && !p->custom && keeps_flexible_headers(p->mode);
+    if (p->raw_flexible) p->in_config.get()->info.format = _NNS_TENSOR_FORMAT_FLEXIBLE;
     return TRUE;
   });
 }
@@ -399,12 +424,13 @@ static GstFlowReturn gst_tensor_decoder_transform(GstBaseTransform *trans, GstBu
   return nns::gst::guard(self, GST_FLOW_ERROR, [&] {
     auto *p = self->priv;
     std::lock_guard<std::mutex> l(p->lock);
-    configure(p);
+    configure(p, GST_ELEMENT(self));
     const auto &info = p->in_cfg.info;
     // Flexible buffers: one memory per tensor, its 128-byte header already checked against
-    // in_cfg (submit_input_buffer); the decoder gets the payload only.
+    // in_cfg (submit_input_buffer); the decoder gets the payload only (the serialising modes:
+    // the whole memory).
     const bool flex = p->flexible;
-    const std::size_t skip = flex ? nns::kMetaHeaderSize : 0;
+    const std::size_t skip = flex && !p->raw_flexible ? nns::kMetaHeaderSize : 0;
     std::size_t n = flex ? gst_buffer_n_memory(inbuf) : nns::gst::buffer_tensor_count(inbuf);
     if (!flex) nns::gst::check_static_buffer(inbuf, info);
     if (flex && n != info.tensors.size())
@@ -472,7 +498,9 @@ static gboolean gst_tensor_decoder_start(GstBaseTransform *trans) {
     self->priv->flexible = false;
     self->priv->flex_known = false;
     self->priv->drop_held();
-    configure(self->priv);
+    // Without a mode the element still starts (GstHarness tests and applications set it after
+    // PLAYING, as with NNStreamer); the missing mode is reported when caps or data arrive.
+    if (!self->priv->mode.empty()) configure(self->priv, GST_ELEMENT(self));
     return TRUE;
   });
 }

@@ -23,6 +23,7 @@
 
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
+#include "gst/tensor_buffer.h"
 #include "gst/tensor_caps.h"
 #include "gst/tensor_repo.h"
 
@@ -197,6 +198,25 @@ static void check_caps(GstTensorRepoSrc *self, guint slot, GstCaps *sink_caps) {
   gst_caps_replace(&p->checked, sink_caps);
 }
 
+// Throws when the tensors of `buf` are not those of the caps property (count, sizes): they would
+// go downstream under caps that do not describe them.
+static void check_tensors(GstTensorRepoSrc *self, guint slot, GstBuffer *buf) {
+  auto *p = self->priv;
+  try {
+    nns::gst::check_static_buffer(buf, p->config.info);
+  } catch (const nns::Error &e) {
+    nns::gst::CapsPtr mine;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      mine.reset(gst_caps_ref(p->caps));
+    }
+    nns::fail(nns::ErrorKind::kStream, "slot " + std::to_string(slot) +
+                                           ": the tensors that arrived do not match the caps " +
+                                           "property " + nns::gst::caps_to_string(mine.get()) +
+                                           " (" + describe(p->config.info) + "): " + e.what());
+  }
+}
+
 static GstFlowReturn reposrc_create(GstPushSrc *src, GstBuffer **out) {
   auto *self = GST_TENSOR_REPOSRC(src);
   auto *p = self->priv;
@@ -223,6 +243,7 @@ static GstFlowReturn reposrc_create(GstPushSrc *src, GstBuffer **out) {
     nns::gst::CapsPtr c(caps);
     try {
       check_caps(self, slot, caps);
+      check_tensors(self, slot, buf);
     } catch (...) {
       repo.set_eos(slot);  // the writer must not wait for a reader that stopped
       throw;

@@ -144,30 +144,25 @@ nns::MetaHeader header_for(const TensorInfo &t) {
   return h;
 }
 
-// Caps of any tensor stream with the given rate; flexible only if `flexible_only`.
+// Caps of any tensor stream with the given rate: static (other/tensors and the legacy
+// single-tensor other/tensor) and/or flexible.
 GstCaps *any_tensor_caps(const TensorsConfig &c, bool with_static, bool with_flexible) {
   GstCaps *caps = gst_caps_new_empty();
-  if (with_static)
+  if (with_static) {
     caps =
         gst_caps_merge(caps, nns::gst::caps_for_format(TensorFormat::kStatic, c.rate_n, c.rate_d));
+    caps = gst_caps_merge(caps, nns::gst::legacy_tensor_caps(c.rate_n, c.rate_d));
+  }
   if (with_flexible)
     caps = gst_caps_merge(caps,
                           nns::gst::caps_for_format(TensorFormat::kFlexible, c.rate_n, c.rate_d));
   return caps;
 }
 
-// Caps on the other pad for one structure of `caps` (direction: the pad `s` is on).
-GstCaps *transform_structure(const Parsed *parsed, GstPadDirection direction,
-                             const GstStructure *s) {
-  TensorsConfig cfg;
-  try {
-    cfg = nns::gst::config_from_structure(s);
-  } catch (const Error &) {
-    return any_tensor_caps(cfg, true, true);
-  }
+// Caps on the other pad for the static reading of one structure (direction: the pad `s` is on).
+GstCaps *transform_static_structure(const Parsed *parsed, GstPadDirection direction,
+                                    TensorsConfig cfg) {
   const bool sink = direction == GST_PAD_SINK;
-  if (cfg.info.format != TensorFormat::kStatic)  // flexible in -> flexible out; out -> any in
-    return any_tensor_caps(cfg, !sink, true);
   if (!parsed || !cfg.info.valid()) return any_tensor_caps(cfg, true, sink);
   TensorsConfig other = cfg;
   try {
@@ -183,6 +178,28 @@ GstCaps *transform_structure(const Parsed *parsed, GstPadDirection direction,
   if (sink)  // a static input may also leave as flexible tensors
     out = gst_caps_merge(
         out, nns::gst::caps_for_format(TensorFormat::kFlexible, cfg.rate_n, cfg.rate_d));
+  return out;
+}
+
+// Caps on the other pad for one structure of `caps` (direction: the pad `s` is on). A structure
+// may allow both formats (format={static,flexible}, or no format field): each is answered.
+GstCaps *transform_structure(const Parsed *parsed, GstPadDirection direction,
+                             const GstStructure *s) {
+  TensorsConfig cfg;
+  try {
+    cfg = nns::gst::config_from_structure(s);
+  } catch (const Error &) {
+    return any_tensor_caps(cfg, true, true);
+  }
+  const bool sink = direction == GST_PAD_SINK;
+  GstCaps *out = gst_caps_new_empty();
+  if (nns::gst::structure_allows_format(s, TensorFormat::kStatic)) {
+    cfg.info.format = TensorFormat::kStatic;
+    out = gst_caps_merge(out, transform_static_structure(parsed, direction, cfg));
+  }
+  if (nns::gst::structure_allows_format(s, TensorFormat::kFlexible))
+    // flexible in -> flexible out; flexible out <- static or flexible in
+    out = gst_caps_merge(out, any_tensor_caps(cfg, !sink, true));
   return out;
 }
 
@@ -285,9 +302,12 @@ static gboolean gst_tensor_transform_start(GstBaseTransform *trans) {
   auto *self = GST_TENSOR_TRANSFORM(trans);
   self->priv->state.reset();
   self->priv->caps_error_posted = false;
-  // Bad mode/option/apply stop the pipeline here, before any data flows.
+  // Bad mode/option/apply stop the pipeline here, before any data flows. An unset mode does not:
+  // GstHarness tests and applications set it after PLAYING (as with NNStreamer); it is reported,
+  // naming the property, when caps arrive (set_caps).
   return nns::gst::guard(trans, FALSE, [&]() -> gboolean {
-    parse_settings(copy_settings(self));
+    Settings s = copy_settings(self);
+    if (s.mode >= 0) parse_settings(s);
     return TRUE;
   });
 }
@@ -332,6 +352,8 @@ static gboolean gst_tensor_transform_set_caps(GstBaseTransform *trans, GstCaps *
     st.in_flexible = st.in.info.format != TensorFormat::kStatic;
     st.out_flexible = st.out.info.format != TensorFormat::kStatic;
     const std::string how = st.parsed.opts.describe();
+    if (const auto *a = std::get_if<tr::ArithOptions>(&st.parsed.opts.data))
+      for (const std::string &w : a->warnings) NNS_POST_WARNING(trans, "property 'option': " + w);
     if (st.in_flexible) {
       if (!st.out_flexible)
         throw Error(ErrorKind::kNegotiation,
@@ -363,6 +385,10 @@ static gboolean gst_tensor_transform_set_caps(GstBaseTransform *trans, GstCaps *
                                                " applied to the input " + st.in.info.to_string() +
                                                ": expected " + expected.info.to_string() +
                                                ", got " + st.out.info.to_string());
+    // Flexible output caps carry no tensor description, but a peer (a capsfilter) may have added
+    // static fields to them: they must not contradict what is pushed.
+    if (st.out_flexible)
+      nns::gst::check_flexible_caps_fields(outcaps, expected.info, how + " makes");
     st.out.info.tensors = expected.info.tensors;
     if (st.out_flexible) st.out.info.format = TensorFormat::kFlexible;
     GST_DEBUG_OBJECT(trans, "%s: %s -> %s", how.c_str(), st.in.info.to_string().c_str(),

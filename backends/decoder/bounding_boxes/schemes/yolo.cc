@@ -86,13 +86,14 @@ std::string got(const TensorsInfo &in) {
 
 // ---- NMS --------------------------------------------------------------------------------------
 
+// IoU as NNStreamer's NMS computes it on its whole-pixel boxes: the intersection counts
+// inclusive pixels (x2 - x1 + 1), the areas do not.
 float iou_aligned(const Cand &a, const Cand &b) {
   const float x1 = std::max(a.x, b.x), y1 = std::max(a.y, b.y);
   const float x2 = std::min(a.x + a.w, b.x + b.w), y2 = std::min(a.y + a.h, b.y + b.h);
-  if (x2 <= x1 || y2 <= y1) return 0.f;
-  const float inter = (x2 - x1) * (y2 - y1);
-  const float uni = a.w * a.h + b.w * b.h - inter;
-  return uni > 0 ? inter / uni : 0.f;
+  const float inter = std::max(0.f, x2 - x1 + 1) * std::max(0.f, y2 - y1 + 1);
+  const float o = inter / (a.w * a.h + b.w * b.h - inter);
+  return o >= 0 ? o : 0.f;
 }
 
 struct Pt {
@@ -111,58 +112,50 @@ void corners(const Cand &c, Pt p[4]) {
   p[3] = {cx - ux + vx, cy - uy + vy};
 }
 
-float cross(Pt o, Pt a, Pt b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+// Whether `p` lies inside the polygon `poly` of `n` corners (even-odd crossing count along +x).
+bool inside(Pt p, const Pt *poly, int n) {
+  bool in = false;
+  for (int i = 0; i < n; ++i) {
+    const Pt a = poly[i], b = poly[(i + 1) % n];
+    if ((a.y > p.y) != (b.y > p.y) && a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) > p.x) in = !in;
+  }
+  return in;
 }
 
 // Geometry of an oriented candidate, computed once per frame before NMS.
 struct Quad {
-  float cx, cy, r;  // centre and circumradius
   Pt p[4];
 };
 
 Quad quad_of(const Cand &c) {
   Quad q;
-  q.cx = c.x + c.w / 2;
-  q.cy = c.y + c.h / 2;
-  q.r = std::hypot(c.w, c.h) / 2;
   corners(c, q.p);
   return q;
 }
 
-// Exact IoU of two oriented boxes: the convex quadrilateral A clipped by each edge of B
-// (Sutherland-Hodgman; at most 8 vertices), area by the shoelace formula.
+// IoU of two oriented boxes estimated the way NNStreamer's oriented NMS does it, so the same
+// boxes survive: a 6x6 grid of points laid from the first corner of the smaller box along its
+// axes (steps of size / 6, at half steps), the overlap being the share of those points inside
+// both boxes times the smaller box's area.
 float iou_oriented(const Cand &a, const Quad &qa, const Cand &b, const Quad &qb) {
-  if (a.angle == 0.f && b.angle == 0.f) return iou_aligned(a, b);
-  const float dx = qa.cx - qb.cx, dy = qa.cy - qb.cy;
-  if (dx * dx + dy * dy >= (qa.r + qb.r) * (qa.r + qb.r)) return 0.f;  // circumcircles apart
-  Pt poly[16], next[16];
-  int n = 4;
-  for (int i = 0; i < 4; ++i) poly[i] = qa.p[i];
-  const Pt *pb = qb.p;
-  const float orient = cross(pb[0], pb[1], pb[2]) >= 0 ? 1.f : -1.f;
-  for (int e = 0; e < 4 && n > 0; ++e) {
-    const Pt s = pb[e], t = pb[(e + 1) % 4];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const Pt p = poly[i], q = poly[(i + 1) % n];
-      const float sp = orient * cross(s, t, p), sq = orient * cross(s, t, q);
-      if (sp >= 0) next[m++] = p;
-      if ((sp >= 0) != (sq >= 0)) {
-        const float k = sp / (sp - sq);
-        next[m++] = {p.x + (q.x - p.x) * k, p.y + (q.y - p.y) * k};
-      }
+  const float area_a = a.w * a.h, area_b = b.w * b.h;
+  const bool a_small = area_a < area_b;
+  const Cand &s = a_small ? a : b;
+  const Pt origin = (a_small ? qa : qb).p[0];
+  constexpr int kGrid = 5;
+  const float step_x = s.w / (kGrid + 1), step_y = s.h / (kGrid + 1);
+  const float co = std::cos(s.angle), si = std::sin(s.angle);
+  int hit = 0, all = 0;
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; j <= kGrid; ++j) {
+      const double u = (i + 0.5) * step_x, v = (j + 0.5) * step_y;
+      const Pt p{static_cast<float>(origin.x + u * co - v * si),
+                 static_cast<float>(origin.y + u * si + v * co)};
+      ++all;
+      hit += inside(p, qa.p, 4) && inside(p, qb.p, 4);
     }
-    n = m;
-    for (int i = 0; i < n; ++i) poly[i] = next[i];
-  }
-  if (n < 3) return 0.f;
-  float area2 = 0;
-  for (int i = 0; i < n; ++i)
-    area2 += poly[i].x * poly[(i + 1) % n].y - poly[(i + 1) % n].x * poly[i].y;
-  const float inter = std::fabs(area2) / 2;
-  const float uni = a.w * a.h + b.w * b.h - inter;
-  return uni > 0 ? inter / uni : 0.f;
+  const float overlap = static_cast<float>(hit) / all * s.w * s.h;
+  return overlap / (area_a + area_b - overlap);
 }
 
 // ---- the schemes ------------------------------------------------------------------------------
@@ -234,12 +227,20 @@ class YoloScheme : public Scheme {
       w *= iw;
       h *= ih;
     }
+    // As upstream, boxes are whole model-input pixels (truncated) from here on: NMS and
+    // drawing see the same numbers as NNStreamer's.
+    const auto whole = [](float v) { return static_cast<float>(static_cast<int>(v)); };
     Cand c{cx - w / 2, cy - h / 2, w, h, angle, score, cls, order};
     if (clamp) {
-      c.x = std::max(0.f, c.x);
-      c.y = std::max(0.f, c.y);
-      c.w = std::min(iw, c.w);
-      c.h = std::min(ih, c.h);
+      c.x = whole(std::max(0.f, c.x));
+      c.y = whole(std::max(0.f, c.y));
+      c.w = whole(std::min(iw, c.w));
+      c.h = whole(std::min(ih, c.h));
+    } else {  // oriented: the centre and the size are truncated
+      c.w = whole(w);
+      c.h = whole(h);
+      c.x = whole(std::max(0.f, cx)) - c.w / 2;
+      c.y = whole(std::max(0.f, cy)) - c.h / 2;
     }
     cand_.push_back(c);
   }
@@ -441,10 +442,10 @@ class YoloV10 final : public YoloScheme {
         continue;  // a class the label file does not have
       const float x1 = r[0] * iw, y1 = r[1] * ih, x2 = r[2] * iw, y2 = r[3] * ih;
       Box &b = out.emplace_back();
-      b.x = std::max(0.f, x1);
-      b.y = std::max(0.f, y1);
-      b.w = std::min(iw, x2 - x1);
-      b.h = std::min(ih, y2 - y1);
+      b.x = static_cast<float>(static_cast<int>(std::max(0.f, x1)));  // whole pixels, as upstream
+      b.y = static_cast<float>(static_cast<int>(std::max(0.f, y1)));
+      b.w = static_cast<float>(static_cast<int>(std::min(iw, x2 - x1)));
+      b.h = static_cast<float>(static_cast<int>(std::min(ih, y2 - y1)));
       b.class_id = static_cast<int>(cls);
       b.score = r[4];
     }
