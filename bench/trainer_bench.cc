@@ -94,7 +94,10 @@ double direct(const GstTensorTrainerFramework *fw, const std::string &dir, int e
       if (fw->push_data(fw, &prop, priv, mem) != 0) return -1;
     }
   }
-  fw->getStatus(fw, &prop, priv);
+  // Training runs on the sub-plugin's worker thread: wait until it has done every epoch.
+  do {
+    fw->getStatus(fw, &prop, priv);
+  } while (prop.epoch_count < static_cast<unsigned>(epochs) && usleep(100) == 0);
   fw->destroy(fw, &prop, &priv);
   double s = std::chrono::duration<double>(Clock::now() - t0).count();
   nns::gst_info_clear(&prop.input_meta);

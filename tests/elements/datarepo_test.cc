@@ -309,3 +309,30 @@ TEST(DatarepoErrors, RangesSettingsAndDisagreements) {
           d / "img.png" + " json=" + d / "i.json",
       {"location", "integer conversion"});
 }
+
+TEST(Datarepo, OctetAndTextSamples) {
+  TempDir d;
+  for (const std::string caps : {"application/octet-stream", "text/x-raw,format=utf8"}) {
+    {
+      Pipe w(nns::test::appsrc("in", caps) + "! datareposink location=" + d / "o.dat" +
+             " json=" + d / "o.json");
+      gst_element_set_state(w.pipeline(), GST_STATE_PLAYING);
+      for (int k = 0; k < 3; ++k) {
+        std::vector<uint8_t> s = {uint8_t('a' + k), uint8_t('b' + k), uint8_t('c' + k), '\n'};
+        w.push("in", make_buffer({s}, k * GST_MSECOND));
+      }
+      w.eos("in");
+      ASSERT_TRUE(w.run().eos) << caps;
+    }
+    auto m = meta_of(d / "o.json");
+    EXPECT_EQ(m.sample_size, 4u);
+    EXPECT_EQ(m.total_samples, 3u);
+    EXPECT_NE(m.caps.find(caps.substr(0, 10)), std::string::npos) << m.caps;
+    Pipe r("datareposrc location=" + d / "o.dat" + " json=" + d / "o.json" +
+           " is-shuffle=false start-sample-index=1 ! appsink name=out sync=false");
+    r.collect("out");
+    ASSERT_TRUE(r.run().eos) << caps;
+    ASSERT_EQ(r.out().size(), 2u) << caps;
+    EXPECT_EQ(all_bytes(r.out()[1]), (std::vector<uint8_t>{'c', 'd', 'e', '\n'})) << caps;
+  }
+}

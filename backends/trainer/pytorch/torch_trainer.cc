@@ -85,13 +85,16 @@ TrainConfig read_config(const std::string &path) {
 
 TorchTrainer::TorchTrainer(const TrainConfig &cfg, const std::string &load_path,
                            std::vector<SampleShape> inputs, std::vector<SampleShape> labels,
-                           int64_t num_training, int64_t num_validation, int64_t epochs)
+                           int64_t num_training, int64_t num_validation, int64_t epochs,
+                           std::string save_path, EpochCallback on_epoch)
     : cfg_(cfg),
       in_shapes_(std::move(inputs)),
       label_shapes_(std::move(labels)),
       num_training_(num_training),
       num_validation_(num_validation),
-      epochs_(epochs) {
+      epochs_(epochs),
+      save_path_(std::move(save_path)),
+      on_epoch_(std::move(on_epoch)) {
   torch::manual_seed(static_cast<uint64_t>(cfg_.seed));
   const std::string from = load_path.empty() ? cfg_.model : load_path;
   try {
@@ -118,8 +121,20 @@ TorchTrainer::TorchTrainer(const TrainConfig &cfg, const std::string &load_path,
     shape.insert(shape.end(), s.shape.begin(), s.shape.end());
     return torch::empty(shape, torch::TensorOptions().dtype(s.type));
   };
-  for (const auto &s : in_shapes_) in_batch_.push_back(batch_of(s));
-  for (const auto &s : label_shapes_) label_batch_.push_back(batch_of(s));
+  for (auto &b : batches_) {
+    for (const auto &s : in_shapes_) b.in.push_back(batch_of(s));
+    for (const auto &s : label_shapes_) b.label.push_back(batch_of(s));
+  }
+  thread_ = std::thread([this] { worker(); });
+}
+
+TorchTrainer::~TorchTrainer() {
+  {
+    std::lock_guard<std::mutex> l(lock_);
+    stop_ = true;
+  }
+  cond_.notify_all();
+  if (thread_.joinable()) thread_.join();
 }
 
 torch::Tensor TorchTrainer::forward(const std::vector<torch::Tensor> &inputs) {
@@ -132,17 +147,17 @@ torch::Tensor TorchTrainer::forward(const std::vector<torch::Tensor> &inputs) {
   throw std::runtime_error("the model's forward() returns neither a tensor nor a tuple of them");
 }
 
-void TorchTrainer::flush(bool training) {
-  if (fill_ == 0) return;
-  const int64_t n = fill_;
-  fill_ = 0;
+// One optimizer step (training) or evaluation (validation) on a batch; worker thread.
+void TorchTrainer::step(Batch &b) {
+  const int64_t n = b.fill;
+  if (n == 0) return;
   std::vector<torch::Tensor> ins;
-  for (auto &b : in_batch_) ins.push_back(b.narrow(0, 0, n));
-  torch::Tensor label = label_batch_[0].narrow(0, 0, n).reshape({n, -1});
-  module_.train(training);
+  for (auto &t : b.in) ins.push_back(t.narrow(0, 0, n));
+  torch::Tensor label = b.label[0].narrow(0, 0, n).reshape({n, -1});
+  module_.train(b.training);
   std::optional<torch::NoGradGuard> no_grad;
-  if (!training) no_grad.emplace();
-  if (training) opt_->zero_grad();
+  if (!b.training) no_grad.emplace();
+  if (b.training) opt_->zero_grad();
   torch::Tensor out = forward(ins).reshape({n, -1});
   torch::Tensor target;  // class indices, for cross entropy and accuracy
   if (label.size(1) == out.size(1) && out.size(1) > 1)
@@ -151,44 +166,119 @@ void TorchTrainer::flush(bool training) {
     target = label.reshape({n}).to(torch::kLong);
   torch::Tensor loss = cfg_.loss == "mse" ? torch::mse_loss(out, label.to(out.scalar_type()))
                                           : torch::nn::functional::cross_entropy(out, target);
-  if (training) {
+  if (b.training) {
     loss.backward();
     opt_->step();
   }
   const double correct = out.size(1) > 1 ? out.argmax(1).eq(target).sum().item<double>() : 0.0;
-  (training ? loss_sum_ : vloss_sum_) += loss.item<double>() * static_cast<double>(n);
-  (training ? correct_ : vcorrect_) += correct;
+  (b.training ? loss_sum_ : vloss_sum_) += loss.item<double>() * static_cast<double>(n);
+  (b.training ? correct_ : vcorrect_) += correct;
 }
 
-bool TorchTrainer::push(const std::vector<const void *> &tensors) {
-  if (finished()) return false;
+void TorchTrainer::worker() {
   // libtorch's thread count is per calling thread: set it in the thread that trains.
-  if (cfg_.num_threads > 0 && at::get_num_threads() != cfg_.num_threads)
-    at::set_num_threads(static_cast<int>(cfg_.num_threads));
+  if (cfg_.num_threads > 0) at::set_num_threads(static_cast<int>(cfg_.num_threads));
+  for (;;) {
+    int idx;
+    {
+      std::unique_lock<std::mutex> l(lock_);
+      cond_.wait(l, [&] { return stop_ || !queue_.empty(); });
+      if (stop_) return;
+      idx = queue_.front();
+      queue_.pop_front();
+    }
+    Batch &b = batches_[idx];
+    std::string err;
+    bool epoch_end = b.end_of_epoch, finished = false;
+    try {
+      step(b);
+      if (epoch_end) {
+        auto per = [](double v, int64_t n) { return n > 0 ? v / static_cast<double>(n) : 0.0; };
+        EpochStats s{per(loss_sum_, num_training_), per(correct_, num_training_),
+                     per(vloss_sum_, num_validation_), per(vcorrect_, num_validation_)};
+        loss_sum_ = correct_ = vloss_sum_ = vcorrect_ = 0;
+        int64_t done;
+        {
+          std::lock_guard<std::mutex> l(lock_);
+          last_ = s;
+          done = ++epochs_done_;
+        }
+        finished = done >= epochs_;
+        if (finished && !save_path_.empty()) {
+          module_.eval();
+          module_.save(save_path_);
+        }
+      }
+    } catch (const std::exception &e) {
+      err = std::string("training step failed: ") + e.what();
+    }
+    {
+      std::lock_guard<std::mutex> l(lock_);
+      b.fill = 0;
+      b.busy = false;
+      if (!err.empty() && error_.empty()) error_ = err;
+    }
+    cond_.notify_all();
+    if (epoch_end && err.empty() && on_epoch_) on_epoch_(finished);
+  }
+}
+
+// Hands the batch being filled to the worker and switches to the other one (waiting until the
+// worker is done with it).
+void TorchTrainer::hand_over(bool end_of_epoch) {
+  std::unique_lock<std::mutex> l(lock_);
+  Batch &b = batches_[cur_];
+  b.end_of_epoch = end_of_epoch;
+  b.busy = true;
+  queue_.push_back(cur_);
+  cond_.notify_all();
+  cur_ ^= 1;
+  cond_.wait(l, [&] { return !batches_[cur_].busy || !error_.empty(); });
+  if (!error_.empty()) throw std::runtime_error(error_);
+}
+
+void TorchTrainer::push(const std::vector<const void *> &tensors) {
+  {
+    std::lock_guard<std::mutex> l(lock_);
+    if (!error_.empty()) throw std::runtime_error(error_);
+  }
+  if (pushed_epochs_ >= epochs_) return;
   const bool training = in_epoch_ < num_training_;
-  if (in_epoch_ == num_training_) flush(true);  // the last partial training batch
+  Batch *b = &batches_[cur_];
+  // The last partial training batch goes before the first validation sample.
+  if (!training && b->fill > 0 && b->training) {
+    hand_over(false);
+    b = &batches_[cur_];
+  }
+  b->training = training;
   std::size_t k = 0;
   for (std::size_t i = 0; i < in_shapes_.size(); ++i, ++k)
-    std::memcpy(static_cast<char *>(in_batch_[i].data_ptr()) + fill_ * in_shapes_[i].bytes,
+    std::memcpy(static_cast<char *>(b->in[i].data_ptr()) + b->fill * in_shapes_[i].bytes,
                 tensors[k], in_shapes_[i].bytes);
   for (std::size_t i = 0; i < label_shapes_.size(); ++i, ++k)
-    std::memcpy(static_cast<char *>(label_batch_[i].data_ptr()) + fill_ * label_shapes_[i].bytes,
+    std::memcpy(static_cast<char *>(b->label[i].data_ptr()) + b->fill * label_shapes_[i].bytes,
                 tensors[k], label_shapes_[i].bytes);
-  if (++fill_ == cfg_.batch_size) flush(training);
-  if (++in_epoch_ < num_training_ + num_validation_) return false;
-  flush(training);
-  auto per = [](double v, int64_t n) { return n > 0 ? v / static_cast<double>(n) : 0.0; };
-  last_ = {per(loss_sum_, num_training_), per(correct_, num_training_),
-           per(vloss_sum_, num_validation_), per(vcorrect_, num_validation_)};
-  loss_sum_ = correct_ = vloss_sum_ = vcorrect_ = 0;
-  in_epoch_ = 0;
-  ++epochs_done_;
-  return true;
+  ++b->fill;
+  const bool epoch_end = ++in_epoch_ == num_training_ + num_validation_;
+  if (epoch_end) {
+    in_epoch_ = 0;
+    ++pushed_epochs_;
+  }
+  if (b->fill == cfg_.batch_size || epoch_end) hand_over(epoch_end);
 }
 
-void TorchTrainer::save(const std::string &path) {
-  module_.eval();
-  module_.save(path);
+EpochStats TorchTrainer::stats() const {
+  std::lock_guard<std::mutex> l(lock_);
+  return last_;
+}
+
+int64_t TorchTrainer::epochs_done() const {
+  std::lock_guard<std::mutex> l(lock_);
+  return epochs_done_;
+}
+
+bool TorchTrainer::finished() const {
+  return epochs_done() >= epochs_;
 }
 
 }  // namespace nns::trainer

@@ -7,9 +7,14 @@
 #include <torch/script.h>
 #include <torch/torch.h>
 
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace nns::trainer {
@@ -39,22 +44,38 @@ struct EpochStats {
   double train_loss = 0, train_acc = 0, valid_loss = 0, valid_acc = 0;
 };
 
+// Training runs on a worker thread of its own: push() copies a sample into the batch being
+// filled and returns; a full batch is handed to the worker (two batches alternate, so the
+// stream fills one while the worker trains on the other). When the worker finishes an epoch's
+// last batch it computes the epoch's figures and calls `on_epoch(finished)` from its thread;
+// after the last epoch it saves the model first (then `finished` is true).
 class TorchTrainer {
  public:
+  using EpochCallback = std::function<void(bool finished)>;
   // `load_path` (model-load-path) replaces the config's model when not empty.
   TorchTrainer(const TrainConfig &cfg, const std::string &load_path,
                std::vector<SampleShape> inputs, std::vector<SampleShape> labels,
-               int64_t num_training, int64_t num_validation, int64_t epochs);
-  // One sample: input then label tensors (bytes as negotiated). Returns true when this sample
-  // completed an epoch (stats() then holds its figures).
-  bool push(const std::vector<const void *> &tensors);
-  const EpochStats &stats() const { return last_; }
-  int64_t epochs_done() const { return epochs_done_; }
-  bool finished() const { return epochs_done_ >= epochs_; }
-  void save(const std::string &path);  // eval mode, TorchScript
+               int64_t num_training, int64_t num_validation, int64_t epochs, std::string save_path,
+               EpochCallback on_epoch);
+  ~TorchTrainer();  // stops the worker (an unfinished training is abandoned)
+  TorchTrainer(const TorchTrainer &) = delete;
+  TorchTrainer &operator=(const TorchTrainer &) = delete;
+  // One sample: input then label tensors (bytes as negotiated). Throws if the worker failed.
+  void push(const std::vector<const void *> &tensors);
+  EpochStats stats() const;
+  int64_t epochs_done() const;
+  bool finished() const;
 
  private:
-  void flush(bool training);
+  struct Batch {
+    std::vector<torch::Tensor> in, label;  // [batch, ...] each, filled row by row
+    int64_t fill = 0;
+    bool training = true, end_of_epoch = false;
+    bool busy = false;  // handed to the worker
+  };
+  void hand_over(bool end_of_epoch);
+  void worker();
+  void step(Batch &b);
   torch::Tensor forward(const std::vector<torch::Tensor> &inputs);
 
   TrainConfig cfg_;
@@ -62,12 +83,24 @@ class TorchTrainer {
   std::vector<torch::Tensor> params_;
   std::unique_ptr<torch::optim::Optimizer> opt_;
   std::vector<SampleShape> in_shapes_, label_shapes_;
-  std::vector<torch::Tensor> in_batch_, label_batch_;  // [batch, ...] each, filled row by row
-  int64_t fill_ = 0;
   int64_t num_training_, num_validation_, epochs_;
-  int64_t in_epoch_ = 0, epochs_done_ = 0;
-  double loss_sum_ = 0, correct_ = 0, vloss_sum_ = 0, vcorrect_ = 0;
+  std::string save_path_;
+  EpochCallback on_epoch_;
+  // producer (streaming thread)
+  Batch batches_[2];
+  int cur_ = 0;
+  int64_t in_epoch_ = 0, pushed_epochs_ = 0;
+  // shared with the worker
+  mutable std::mutex lock_;
+  std::condition_variable cond_;
+  std::deque<int> queue_;  // batches to train, in order
+  bool stop_ = false;
+  std::string error_;  // the worker's failure, reported by the next push()
+  int64_t epochs_done_ = 0;
   EpochStats last_;
+  // worker only
+  double loss_sum_ = 0, correct_ = 0, vloss_sum_ = 0, vcorrect_ = 0;
+  std::thread thread_;
 };
 
 }  // namespace nns::trainer

@@ -7,6 +7,7 @@
 // docs/backends/trainer_pytorch.md.
 #include <exception>
 #include <memory>
+#include <atomic>
 #include <mutex>
 #include <string>
 
@@ -30,11 +31,17 @@ namespace {
 thread_local std::string g_last_error;
 
 struct Priv {
-  std::unique_ptr<nns::trainer::TorchTrainer> trainer;
-  GstTensorTrainerEventNotifier *notifier = nullptr;
-  std::string save_path;
-  std::mutex lock;  // push_data and getStatus may come from different threads
+  std::atomic<GstTensorTrainerEventNotifier *> notifier{nullptr};
+  std::unique_ptr<nns::trainer::TorchTrainer> trainer;  // last: its worker stops first
 };
+
+// Called by the trainer's worker thread at the end of each epoch.
+void epoch_done(Priv *p, bool finished) {
+  GstTensorTrainerEventNotifier *n = p->notifier.load();
+  if (!n || !nnstreamer_trainer_notify_event) return;
+  nnstreamer_trainer_notify_event(n, TRAINER_EVENT_EPOCH_COMPLETION, nullptr);
+  if (finished) nnstreamer_trainer_notify_event(n, TRAINER_EVENT_TRAINING_COMPLETION, nullptr);
+}
 
 int fail(const std::string &msg) {
   g_last_error = msg;
@@ -107,10 +114,12 @@ int pt_create(const GstTensorTrainerFramework *, const GstTensorTrainerPropertie
       (i < prop->num_inputs ? ins : labels).push_back(shape_of(*t));
     }
     auto p = std::make_unique<Priv>();
-    p->save_path = prop->model_save_path ? prop->model_save_path : "";
+    Priv *raw = p.get();
     p->trainer = std::make_unique<nns::trainer::TorchTrainer>(
         cfg, prop->model_load_path ? prop->model_load_path : "", ins, labels,
-        prop->num_training_samples, prop->num_validation_samples, prop->num_epochs);
+        prop->num_training_samples, prop->num_validation_samples, prop->num_epochs,
+        prop->model_save_path ? prop->model_save_path : "",
+        [raw](bool finished) { epoch_done(raw, finished); });
     *private_data = p.release();
     return 0;
   } catch (const std::exception &e) {
@@ -129,12 +138,12 @@ int pt_start(const GstTensorTrainerFramework *, const GstTensorTrainerProperties
              GstTensorTrainerEventNotifier *notifier, void *private_data) {
   auto *p = static_cast<Priv *>(private_data);
   if (!p) return fail("start before create");
-  p->notifier = notifier;
+  p->notifier.store(notifier);
   return 0;
 }
 
 int pt_stop(const GstTensorTrainerFramework *, const GstTensorTrainerProperties *, void **) {
-  return 0;  // training runs inside push_data: nothing runs in the background to stop
+  return 0;  // destroy() stops the worker; an unfinished training is then abandoned
 }
 
 int pt_push(const GstTensorTrainerFramework *, const GstTensorTrainerProperties *prop,
@@ -143,20 +152,10 @@ int pt_push(const GstTensorTrainerFramework *, const GstTensorTrainerProperties 
   try {
     std::vector<const void *> t;
     for (unsigned i = 0; i < prop->num_inputs + prop->num_labels; ++i) t.push_back(input[i].data);
-    bool epoch_done, finished;
-    {
-      std::lock_guard<std::mutex> l(p->lock);
-      epoch_done = p->trainer->push(t);
-      finished = epoch_done && p->trainer->finished();
-      if (finished && !p->save_path.empty()) p->trainer->save(p->save_path);
-    }
-    if (epoch_done && p->notifier && nnstreamer_trainer_notify_event)
-      nnstreamer_trainer_notify_event(p->notifier, TRAINER_EVENT_EPOCH_COMPLETION, nullptr);
-    if (finished && p->notifier && nnstreamer_trainer_notify_event)
-      nnstreamer_trainer_notify_event(p->notifier, TRAINER_EVENT_TRAINING_COMPLETION, nullptr);
+    p->trainer->push(t);
     return 0;
   } catch (const std::exception &e) {
-    return fail(std::string("training step failed: ") + e.what());
+    return fail(e.what());
   }
 }
 
@@ -164,8 +163,7 @@ int pt_status(const GstTensorTrainerFramework *, GstTensorTrainerProperties *pro
               void *private_data) {
   auto *p = static_cast<Priv *>(private_data);
   if (!p) return fail("getStatus before create");
-  std::lock_guard<std::mutex> l(p->lock);
-  const auto &s = p->trainer->stats();
+  const auto s = p->trainer->stats();
   prop->epoch_count = static_cast<unsigned>(p->trainer->epochs_done());
   prop->training_loss = s.train_loss;
   prop->training_accuracy = s.train_acc;

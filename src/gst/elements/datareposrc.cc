@@ -414,16 +414,21 @@ static GstMemory *read_direct(const Run &r, uint32_t index, uint64_t offset, uin
 
 // Samples read in file order come out of one 256 KiB read shared by many samples (one syscall
 // for many samples); shuffled samples are read one by one.
+// Makes r.chunk cover [offset, offset + size) (sequential reading only).
+static void ensure_chunk(Run &r, uint32_t index, uint64_t offset, uint64_t size) {
+  if (r.chunk && offset >= r.chunk_offset &&
+      offset + size <= r.chunk_offset + gst_memory_get_sizes(r.chunk.get(), nullptr, nullptr))
+    return;
+  constexpr uint64_t kChunk = 256 * 1024;
+  uint64_t len = std::max(size, kChunk);
+  if (offset < r.file_size) len = std::max(size, std::min(len, r.file_size - offset));
+  r.chunk.reset(read_direct(r, index, offset, len));
+  r.chunk_offset = offset;
+}
+
 static GstMemory *read_at(Run &r, uint32_t index, uint64_t offset, uint64_t size) {
   if (!r.sequential) return read_direct(r, index, offset, size);
-  if (!r.chunk || offset < r.chunk_offset ||
-      offset + size > r.chunk_offset + gst_memory_get_sizes(r.chunk.get(), nullptr, nullptr)) {
-    constexpr uint64_t kChunk = 256 * 1024;
-    uint64_t len = std::max(size, kChunk);
-    if (offset < r.file_size) len = std::max(size, std::min(len, r.file_size - offset));
-    r.chunk.reset(read_direct(r, index, offset, len));
-    r.chunk_offset = offset;
-  }
+  ensure_chunk(r, index, offset, size);
   return gst_memory_share(r.chunk.get(), static_cast<gssize>(offset - r.chunk_offset),
                           static_cast<gssize>(size));
 }
@@ -447,17 +452,29 @@ static GstBuffer *read_sample(Run &r, uint32_t index) {
       break;
     }
     case Kind::kTensorStatic: {
-      nns::gst::MemoryPtr all(
-          read_at(r, index, static_cast<uint64_t>(index) * r.sample_size, r.sample_size));
+      const uint64_t base = static_cast<uint64_t>(index) * r.sample_size;
       const std::size_t n = r.sequence.empty() ? r.config.info.size() : r.sequence.size();
       if (n == 1 && r.config.info.size() == 1) {
-        gst_buffer_append_memory(buf.get(), all.release());
+        gst_buffer_append_memory(buf.get(), read_at(r, index, base, r.sample_size));
         break;
+      }
+      // In file order the tensors are shared straight out of the read-ahead chunk; otherwise
+      // out of the sample's own memory.
+      nns::gst::MemoryPtr all;
+      uint64_t from = 0;  // offset of the sample in `src`
+      GstMemory *src = nullptr;
+      if (r.sequential) {
+        ensure_chunk(r, index, base, r.sample_size);
+        src = r.chunk.get();
+        from = base - r.chunk_offset;
+      } else {
+        all.reset(read_at(r, index, base, r.sample_size));
+        src = all.get();
       }
       for (std::size_t k = 0; k < n; ++k) {
         const std::size_t t = r.sequence.empty() ? k : r.sequence[k];
         const auto &info = r.config.info[t];
-        GstMemory *part = gst_memory_share(all.get(), static_cast<gssize>(r.tensor_offset[t]),
+        GstMemory *part = gst_memory_share(src, static_cast<gssize>(from + r.tensor_offset[t]),
                                            static_cast<gssize>(info.byte_size()));
         nns::gst::buffer_append_tensor(buf.get(), part, info);
       }
