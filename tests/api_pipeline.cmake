@@ -36,3 +36,13 @@ add_dependencies(ml_pipeline_c nnstreamer)
 add_test(NAME MlPipelineC.AppsrcCustomEasySink COMMAND ml_pipeline_c)
 set_tests_properties(MlPipelineC.AppsrcCustomEasySink PROPERTIES LABELS api TIMEOUT 120
                      ENVIRONMENT "${_capi_env}")
+
+# NNStreamer's library names for the common and single-shot API: a C program linked only
+# against libcapi-ml-inference-single and libcapi-ml-common (which hold no code) must run.
+add_executable(ml_api_names api/ml_api_names_main.c)
+target_include_directories(ml_api_names PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+target_link_libraries(ml_api_names PRIVATE -Wl,--no-as-needed capi-ml-inference-single
+                      capi-ml-common -Wl,--as-needed nnstreamer-single)
+add_test(NAME api.ml_library_names COMMAND ml_api_names)
+set_tests_properties(api.ml_library_names PROPERTIES LABELS api TIMEOUT 60
+  PASS_REGULAR_EXPRESSION "ok")
