@@ -40,8 +40,13 @@ struct EasyPriv {
   std::unique_ptr<CompatProps> props;
 };
 
+// As NNStreamer's gst_tensors_info_validate(): a flexible or sparse description is accepted
+// as it is (its shapes travel with each buffer); a static one needs valid tensors.
 bool valid_info(const GstTensorsInfo *i) {
-  if (!i || i->num_tensors < 1 || i->num_tensors > NNS_TENSOR_SIZE_LIMIT) return false;
+  if (!i || static_cast<unsigned>(i->format) >= static_cast<unsigned>(_NNS_TENSOR_FORMAT_END))
+    return false;
+  if (i->format != _NNS_TENSOR_FORMAT_STATIC) return i->num_tensors <= NNS_TENSOR_SIZE_LIMIT;
+  if (i->num_tensors < 1 || i->num_tensors > NNS_TENSOR_SIZE_LIMIT) return false;
   for (unsigned k = 0; k < i->num_tensors; ++k) {
     const GstTensorInfo *t = gst_info_at(i, k);
     if (!t || t->type < 0 || t->type >= _NNS_END || t->dimension[0] == 0) return false;
