@@ -38,14 +38,23 @@ static GstFlowReturn dec_decode(void **pdata, const GstTensorsConfig *config,
 
 static GstTensorDecoderDef def;
 
+#ifndef NNS2X_DEC_NAME
+#define NNS2X_DEC_NAME "twox_dec"
+#endif
+
+/* NNS2X_DEC_BAD: no decode callback, so the probe is refused. */
 __attribute__((constructor)) static void init_dec(void) {
-  def.modename = (char *)"twox_dec";
+  def.modename = (char *)NNS2X_DEC_NAME;
   def.init = dec_init;
   def.getOutCaps = dec_caps;
+#ifndef NNS2X_DEC_BAD
   def.decode = dec_decode;
+#else
+  (void)dec_decode;
+#endif
   nnstreamer_decoder_probe(&def);
 }
 
 __attribute__((destructor)) static void fini_dec(void) {
-  nnstreamer_decoder_exit("twox_dec");
+  nnstreamer_decoder_exit(NNS2X_DEC_NAME);
 }
