@@ -43,5 +43,8 @@ foreach(t ${_compat2x_tests})
     # The sub-plugins resolve nnstreamer_filter_probe() & co. in the test program, as they do in
     # libnnstreamer.so in a real pipeline.
     set_target_properties(${name} PROPERTIES ENABLE_EXPORTS ON)
+    if(NNS_SANITIZE)  # gst-launch/gst-inspect cannot load a sanitizer-built plugin
+      target_compile_definitions(${name} PRIVATE NNS_TEST_SANITIZED=1)
+    endif()
   endif()
 endforeach()

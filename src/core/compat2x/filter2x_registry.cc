@@ -173,6 +173,16 @@ std::vector<std::pair<std::string, std::string>> Filter2xRegistry::custom_desc(
 
 // ---- C API (nnstreamer_plugin_api_filter.h) -------------------------------------------------
 
+// The shared-model functions (filter2x_shared.cc) are called only by sub-plugins, never by the
+// plugin itself: referencing them here makes the linker take that object out of the static
+// core library into every library that registers 2.x filters, so they are exported.
+__attribute__((used)) static const void *const kSharedModelApi[] = {
+    reinterpret_cast<const void *>(&nnstreamer_filter_shared_model_get),
+    reinterpret_cast<const void *>(&nnstreamer_filter_shared_model_insert_and_get),
+    reinterpret_cast<const void *>(&nnstreamer_filter_shared_model_remove),
+    reinterpret_cast<const void *>(&nnstreamer_filter_shared_model_replace),
+};
+
 extern "C" {
 
 __attribute__((visibility("default"))) int nnstreamer_filter_probe(GstTensorFilterFramework *tfsp) {

@@ -26,7 +26,10 @@ static size_t bytes_of(const GstTensorInfo *t) {
 }
 
 static int v0_open(const GstTensorFilterProperties *prop, void **priv) {
-  (void)prop;
+  /* As NNStreamer's sub-plugins do: the shared-model functions must resolve when loading. */
+  if (prop->shared_tensor_filter_key &&
+      nnstreamer_filter_shared_model_get(priv, prop->shared_tensor_filter_key))
+    return -EINVAL;
   *priv = malloc(sizeof(size_t));
   *(size_t *)*priv = 0;
   ++g_opens;
