@@ -388,7 +388,8 @@ TEST(Subplugins2x, CustomEasyAcceptsFlexibleInfo) {
   EXPECT_EQ(NNS_custom_easy_register("flex2x", fn, nullptr, &flex, &flex), 0);
   EXPECT_EQ(NNS_custom_easy_dynamic_register("flexdyn2x", dyn, nullptr, &flex), 0);
   EXPECT_EQ(NNS_custom_easy_register("stat2x", fn, nullptr, &stat, &flex), -EINVAL);
-  flex.format = static_cast<tensor_format>(7);
+  const int seven = 7;  // not a tensor_format (written as int: UBSan checks enum loads)
+  std::memcpy(&flex.format, &seven, sizeof seven);
   EXPECT_EQ(NNS_custom_easy_register("bad2x", fn, nullptr, &flex, &flex), -EINVAL);
   EXPECT_EQ(NNS_custom_easy_unregister("flex2x"), 0);
   EXPECT_EQ(NNS_custom_easy_unregister("flexdyn2x"), 0);
