@@ -112,6 +112,24 @@ TEST(Subplugins2x, V1FilterModelInfoCustomAndAccelerator) {
   EXPECT_EQ(c[0], c[1]);
 }
 
+TEST(Subplugins2x, V1FilterInvokeDynamicFlexibleOutput) {
+  Folders folders;
+  AppPipeline p(
+      "appsrc name=src ! tensor_filter framework=twox_v1 invoke-dynamic=true ! appsink name=out");
+  p.set_caps("src", tensors_caps("uint8", "4:1"));
+  p.push("src", Frame({Bytes{2, 4, 6, 8}}));
+  p.eos("src");
+  auto r = p.run();
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto f = p.frames("out");
+  ASSERT_EQ(f.size(), 1u);
+  ASSERT_EQ(f[0].mems.size(), 1u);
+  ASSERT_EQ(f[0].mems[0].size(), 128u + 16u) << "flexible header + 4 float32";
+  EXPECT_EQ(values_of<float>(Bytes(f[0].mems[0].begin() + 128, f[0].mems[0].end())),
+            (std::vector<float>{2.f, 3.f, 4.f, 5.f}));
+  EXPECT_NE(f[0].caps.find("flexible"), std::string::npos) << f[0].caps;
+}
+
 TEST(Subplugins2x, V1FilterWithoutSupportedAcceleratorFailsInvoke) {
   Folders folders;
   // accelerator=false gives the sub-plugin ACCL_NONE, which this one refuses in invoke.

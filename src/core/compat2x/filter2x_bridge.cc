@@ -281,6 +281,29 @@ int bridge_invoke(void *priv, const GstTensorMemory *in, uint32_t, GstTensorMemo
   return rc;
 }
 
+// invoke-dynamic=true: as NNStreamer, the sub-plugin allocates every output in invoke and
+// describes them in prop->output_meta; the blocks come back through free_output.
+int bridge_invoke_dynamic(void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
+                          nns_tensors_desc *out_info, GstTensorMemory *out, char *err, size_t len) {
+  auto *c = static_cast<Inst *>(priv);
+  c->props->set_input(*in_info);
+  for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i) out[i] = GstTensorMemory{nullptr, 0};
+  int rc = call_invoke(c, in, out);
+  desc_from_gst_info(&c->props->get()->output_meta, *out_info);
+  if (rc != 0) {
+    for (unsigned i = 0; i < NNS_TENSOR_SIZE_LIMIT; ++i)
+      if (out[i].data) destroy_block(c, out[i].data);
+    out_info->num_tensors = 0;
+    return set_err(err, len, c->where + ": invoke (dynamic) returned " + std::to_string(rc),
+                   rc < 0 ? rc : -EINVAL);
+  }
+  for (uint32_t i = 0; i < out_info->num_tensors; ++i)
+    if (!out[i].data)
+      return set_err(err, len,
+                     c->where + ": invoke (dynamic) gave no data for output " + std::to_string(i));
+  return 0;
+}
+
 void bridge_free_output(void *priv, void *data) {
   auto *c = static_cast<Inst *>(priv);
   {
@@ -380,6 +403,7 @@ bool bind_bridge(Filter2x &e) {
   t.name = e.name.c_str();
   t.flags = 0;
   if (e.info.allocate_in_invoke) t.flags |= NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE;
+  t.flags |= NNS_FILTER_FLAG_DYNAMIC;  // prop->invoke_dynamic tells the sub-plugin
   // NNStreamer checks the model files only when the sub-plugin asks for it.
   if (e.info.run_without_model || !e.info.verify_model_path)
     t.flags |= NNS_FILTER_FLAG_RUN_WITHOUT_MODEL;
@@ -399,6 +423,12 @@ bool bind_bridge(Filter2x &e) {
         err, len, [&] { return bridge_invoke(priv, in, num_in, out, num_out, err, len); });
   };
   t.free_output = bridge_free_output;
+  t.invoke_dynamic = [](void *priv, const nns_tensors_desc *in_info, const GstTensorMemory *in,
+                        nns_tensors_desc *out_info, GstTensorMemory *out, char *err, size_t len) {
+    return builtin::guarded(err, len, [&] {
+      return bridge_invoke_dynamic(priv, in_info, in, out_info, out, err, len);
+    });
+  };
   t.handle_event = [](void *priv, nns_filter_event ev, char *err, size_t len) {
     return builtin::guarded(err, len, [&] { return bridge_event(priv, ev, err, len); });
   };

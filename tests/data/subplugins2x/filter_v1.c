@@ -105,8 +105,20 @@ static int v1_event(const GstTensorFilterFramework *self, const GstTensorFilterP
 static int v1_invoke(const GstTensorFilterFramework *self, GstTensorFilterProperties *prop,
                      void *priv, const GstTensorMemory *in, GstTensorMemory *out) {
   (void)self;
-  (void)prop;
   const v1_priv *p = priv;
+  if (prop->invoke_dynamic) {
+    /* As NNStreamer's dynamic sub-plugins: allocate the output and describe it in
+     * prop->output_meta. Here: n float32 values (x * 0.5 + add) for an input of n bytes. */
+    size_t n = in[0].size;
+    float *y = malloc(n * sizeof(float) + 1);
+    if (!y) return -ENOMEM;
+    for (size_t i = 0; i < n; ++i) y[i] = ((const unsigned char *)in[0].data)[i] * 0.5f + p->add;
+    set_one(&prop->output_meta, _NNS_FLOAT32);
+    prop->output_meta.info[0].dimension[0] = (uint32_t)n;
+    out[0].data = y;
+    out[0].size = n * sizeof(float);
+    return 0;
+  }
   if (in[0].size != 4 || out[0].size != 16) return -EINVAL;
   if (p->accl != ACCL_CPU) return -ENODEV;
   const unsigned char *x = in[0].data;
