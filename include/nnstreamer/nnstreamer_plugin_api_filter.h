@@ -106,6 +106,189 @@ int nnstreamer_filter_async_dispatch(const GstTensorFilterAsyncHandle *handle,
                                      const GstTensorsInfo *info, const GstTensorMemory *output,
                                      int last);
 
+/* NNStreamer 2.x filter sub-plugins --------------------------------------------------------
+ *
+ * A sub-plugin written for NNStreamer 2.x (libnnstreamer_filter_<name>.so in the filters=
+ * folders) fills a GstTensorFilterFramework and calls nnstreamer_filter_probe() from a
+ * constructor. Both table layouts are accepted: version 0 (the flat v0 fields) and version 1
+ * (getFrameworkInfo/getModelInfo/eventHandler). The layouts, enum values and the version word
+ * are NNStreamer's; see docs/compat-nnstreamer-2x.md, "Sub-plugins". */
+
+#define ACCL_NONE_STR "none"
+#define ACCL_DEFAULT_STR "default"
+#define ACCL_AUTO_STR "auto"
+#define ACCL_CPU_STR "cpu"
+#define ACCL_CPU_SIMD_STR "cpu.simd"
+#define ACCL_CPU_NEON_STR "cpu.neon"
+#define ACCL_GPU_STR "gpu"
+#define ACCL_NPU_STR "npu"
+#define ACCL_NPU_MOVIDIUS_STR "npu.movidius"
+#define ACCL_NPU_EDGE_TPU_STR "npu.edgetpu"
+#define ACCL_NPU_VIVANTE_STR "npu.vivante"
+#define ACCL_NPU_SRCN_STR "npu.srcn"
+#define ACCL_NPU_SLSI_STR "npu.slsi"
+#define ACCL_NPU_SR_STR "npu.sr"
+
+/* The version word: 32 bits of magic, 16 bits of table layout (0 or 1), 16 bits the
+ * sub-plugin may use for itself. */
+#define GST_TENSOR_FILTER_FRAMEWORK_BASE (0xDEAFDEAD00000000ULL)
+#define GST_TENSOR_FILTER_FRAMEWORK_V0 (GST_TENSOR_FILTER_FRAMEWORK_BASE)
+#define GST_TENSOR_FILTER_FRAMEWORK_V1 (GST_TENSOR_FILTER_FRAMEWORK_BASE | 0x10000ULL)
+#define GST_TENSOR_FILTER_API_VERSION_DEFINED (1)
+#define GST_TENSOR_FILTER_API_VERSION_MIN (0)
+#define GST_TENSOR_FILTER_API_VERSION_MAX (1)
+#define checkGstTensorFilterFrameworkVersion(value, version)           \
+  ((GST_TENSOR_FILTER_FRAMEWORK_BASE | ((uint64_t)(version) << 16)) == \
+   ((value)&0xFFFFFFFFFFFF0000ULL))
+
+typedef struct _GstTensorFilterFrameworkStatistics {
+  int64_t total_invoke_num;
+  int64_t total_invoke_latency;   /* us */
+  int64_t total_overhead_latency; /* us */
+} GstTensorFilterFrameworkStatistics;
+
+/* What a version 1 sub-plugin reports from getFrameworkInfo. */
+typedef struct _GstTensorFilterFrameworkInfo {
+  const char *name;
+  int allow_in_place;
+  int allocate_in_invoke; /* invoke allocates output[i].data itself */
+  int run_without_model;  /* model= need not name a file */
+  int verify_model_path;  /* the host checks that the model files exist */
+  const accl_hw *hw_list; /* supported accelerators */
+  int num_hw;
+  accl_hw accl_auto;
+  accl_hw accl_default;
+  const GstTensorFilterFrameworkStatistics *statistics;
+} GstTensorFilterFrameworkInfo;
+
+typedef enum {
+  DESTROY_NOTIFY,  /* free data invoke allocated */
+  RELOAD_MODEL,    /* load model_files/num_models */
+  CUSTOM_PROP,     /* custom_properties changed */
+  SET_INPUT_PROP,  /* info/layout of the input changed */
+  SET_OUTPUT_PROP, /* info/layout of the output changed */
+  SET_ACCELERATOR, /* hw_list/num_hw changed */
+  CHECK_HW_AVAILABILITY,
+  SUSPEND,
+  RESUME,
+} event_ops;
+
+typedef enum {
+  GET_IN_OUT_INFO, /* fill in_info and out_info from the model */
+  SET_INPUT_INFO,  /* in_info is given; fill out_info */
+} model_info_ops;
+
+typedef struct _GstTensorFilterFrameworkEventData {
+  union {
+    struct {
+      void *data;
+    };
+    struct {
+      const char **model_files;
+      int num_models;
+    };
+    struct {
+      const char *custom_properties;
+    };
+    struct {
+      const GstTensorsInfo *info;
+      tensors_layout layout;
+    };
+    struct {
+      accl_hw *hw_list;
+      int num_hw;
+    };
+    struct {
+      accl_hw hw;
+      const char *custom;
+    };
+  };
+} GstTensorFilterFrameworkEventData;
+
+typedef struct _GstTensorFilterFramework GstTensorFilterFramework;
+
+struct _GstTensorFilterFramework {
+  uint64_t version; /* GST_TENSOR_FILTER_FRAMEWORK_V0 or _V1 (low 16 bits free) */
+  int (*open)(const GstTensorFilterProperties *prop, void **private_data);   /* may be NULL */
+  void (*close)(const GstTensorFilterProperties *prop, void **private_data); /* may be NULL */
+  union {
+    struct { /* version 0 */
+      char *name;
+      int allow_in_place;
+      int allocate_in_invoke;
+      int run_without_model;
+      int verify_model_path;
+      const GstTensorFilterFrameworkStatistics *statistics;
+      int (*invoke_NN)(const GstTensorFilterProperties *prop, void **private_data,
+                       const GstTensorMemory *input, GstTensorMemory *output);
+      int (*getInputDimension)(const GstTensorFilterProperties *prop, void **private_data,
+                               GstTensorsInfo *info);
+      int (*getOutputDimension)(const GstTensorFilterProperties *prop, void **private_data,
+                                GstTensorsInfo *info);
+      int (*setInputDimension)(const GstTensorFilterProperties *prop, void **private_data,
+                               const GstTensorsInfo *in_info, GstTensorsInfo *out_info);
+      void (*destroyNotify)(void **private_data, void *data);
+      int (*reloadModel)(const GstTensorFilterProperties *prop, void **private_data);
+      int (*handleEvent)(event_ops ops, GstTensorFilterFrameworkEventData *data);
+      int (*checkAvailability)(accl_hw hw);
+      int (*allocateInInvoke)(void **private_data);
+    }
+#ifdef NO_ANONYMOUS_NESTED_STRUCT
+    v0
+#endif
+        ;
+    struct { /* version 1 */
+      int (*invoke)(const GstTensorFilterFramework *self, GstTensorFilterProperties *prop,
+                    void *private_data, const GstTensorMemory *input, GstTensorMemory *output);
+      int (*getFrameworkInfo)(const GstTensorFilterFramework *self,
+                              const GstTensorFilterProperties *prop, void *private_data,
+                              GstTensorFilterFrameworkInfo *fw_info);
+      int (*getModelInfo)(const GstTensorFilterFramework *self,
+                          const GstTensorFilterProperties *prop, void *private_data,
+                          model_info_ops ops, GstTensorsInfo *in_info, GstTensorsInfo *out_info);
+      int (*eventHandler)(const GstTensorFilterFramework *self,
+                          const GstTensorFilterProperties *prop, void *private_data, event_ops ops,
+                          GstTensorFilterFrameworkEventData *data);
+      void *subplugin_data; /* the host's; sub-plugins never touch it */
+    }
+#ifdef NO_ANONYMOUS_NESTED_STRUCT
+    v1
+#endif
+        ;
+  };
+};
+
+/* Registers a sub-plugin (call it from the .so's constructor). TRUE (1) when registered;
+ * FALSE when the table is invalid (the reason is kept for tensor_filter's error message) or
+ * the name is taken. The table must stay valid and unchanged until nnstreamer_filter_exit(). */
+extern int nnstreamer_filter_probe(GstTensorFilterFramework *tfsp);
+/* Unregisters the sub-plugin registered as `name` (filters already open keep using it). */
+extern void nnstreamer_filter_exit(const char *name);
+/* The NNStreamer 2.x sub-plugin registered (or loadable from the filters= folders) as `name`,
+ * or through nnstreamer.ini's [<name>] subplugin_priority / [filter-aliases]; NULL if none. */
+extern const GstTensorFilterFramework *nnstreamer_filter_find(const char *name);
+/* Describes the custom= keys of sub-plugin `name`: ("key", "description", ..., NULL). */
+extern void nnstreamer_filter_set_custom_property_desc(const char *name, const char *prop, ...);
+
+/* A model representation shared by filters with the same shared-tensor-filter-key. `instance`
+ * identifies the caller (e.g. its private data). */
+/* The representation stored for `key` (the caller is added to its users), or NULL. */
+extern void *nnstreamer_filter_shared_model_get(void *instance, const char *key);
+/* Stores `interpreter` for `key` with `instance` as first user and returns it; NULL when the
+ * key is already taken or an argument is NULL. */
+extern void *nnstreamer_filter_shared_model_insert_and_get(void *instance, char *key,
+                                                           void *interpreter);
+/* Removes `instance` from the users of `key`; the last one out frees the representation with
+ * free_callback (may be NULL). TRUE when the instance was removed. */
+extern int nnstreamer_filter_shared_model_remove(void *instance, const char *key,
+                                                 void (*free_callback)(void *));
+/* Calls replace_callback(user, new_interpreter) for every user of `key`, then frees the old
+ * representation with free_callback and stores the new one. */
+extern void nnstreamer_filter_shared_model_replace(void *instance, const char *key,
+                                                   void *new_interpreter,
+                                                   void (*replace_callback)(void *, void *),
+                                                   void (*free_callback)(void *));
+
 #ifdef __cplusplus
 }
 #endif

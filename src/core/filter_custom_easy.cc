@@ -4,6 +4,7 @@
 // registered name. The function gets the mapped input memories and the element's output
 // buffers directly.
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -40,8 +41,16 @@ struct EasyPriv {
   std::unique_ptr<CompatProps> props;
 };
 
+// As NNStreamer's gst_tensors_info_validate(): a flexible or sparse description is accepted
+// as it is (its shapes travel with each buffer); a static one needs valid tensors.
 bool valid_info(const GstTensorsInfo *i) {
-  if (!i || i->num_tensors < 1 || i->num_tensors > NNS_TENSOR_SIZE_LIMIT) return false;
+  if (!i) return false;
+  int format;  // read as int: the caller's value may be outside the enum
+  static_assert(sizeof format == sizeof i->format);
+  std::memcpy(&format, &i->format, sizeof format);
+  if (format < 0 || format >= _NNS_TENSOR_FORMAT_END) return false;
+  if (format != _NNS_TENSOR_FORMAT_STATIC) return i->num_tensors <= NNS_TENSOR_SIZE_LIMIT;
+  if (i->num_tensors < 1 || i->num_tensors > NNS_TENSOR_SIZE_LIMIT) return false;
   for (unsigned k = 0; k < i->num_tensors; ++k) {
     const GstTensorInfo *t = gst_info_at(i, k);
     if (!t || t->type < 0 || t->type >= _NNS_END || t->dimension[0] == 0) return false;

@@ -13,7 +13,9 @@
 #include <map>
 #include <set>
 
+#include "core/compat2x/filter2x.h"
 #include "core/error.h"
+#include "core/filter_compat_async.h"
 #include "core/nns_conf.h"
 #include "core/tensor_info.h"
 
@@ -148,20 +150,53 @@ void FilterRegistry::remove_builtin(const std::string &name) {
   builtin_.erase(name);
 }
 
-const nns_filter_backend_i *FilterRegistry::load_file(const std::string &path) {
+FilterRegistry::Loaded FilterRegistry::load_file(const std::string &path, const std::string &name) {
+  auto &reg2x = compat2x::Filter2xRegistry::get();
   std::lock_guard lk(mu_);
-  if (auto it = loaded_.find(path); it != loaded_.end()) return it->second;
+  if (auto it = loaded_.find(path); it != loaded_.end()) {
+    if (!it->second.is_2x) return it->second;
+    // A 2.x file whose sub-plugin later called nnstreamer_filter_exit() provides nothing.
+    const compat2x::Filter2x *f = reg2x.find(name);
+    return f ? Loaded{&f->iface, true} : Loaded{};
+  }
+  promote_filter_api();  // a 2.x constructor calls nnstreamer_filter_probe() of this library
+  uint64_t mark = reg2x.mark();
   dlerror();
   void *h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!h) {
     const char *e = dlerror();
     fail(ErrorKind::kLibrary, "cannot load " + path + ": " + (e ? e : "unknown dlopen error"));
   }
+  auto probes = reg2x.since(mark);
   auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
   if (!entry) {
-    dlclose(h);
-    fail(ErrorKind::kLibrary,
-         path + " is not a filter back end: it does not export " + NNS_FILTER_BACKEND_ENTRY + "()");
+    // NNStreamer 2.x: the constructor registered the sub-plugin (or tried to).
+    bool registered_any = false;
+    for (auto &p : probes) registered_any = registered_any || p.accepted;
+    if (const compat2x::Filter2x *f = reg2x.find(name);
+        f && std::any_of(probes.begin(), probes.end(),
+                         [&](auto &p) { return p.accepted && p.text == name; })) {
+      reg2x.set_origin(name, path);
+      loaded_[path] = Loaded{&f->iface, true};  // the handle stays open (the table lives there)
+      return loaded_[path];
+    }
+    std::string why;
+    for (auto &p : probes)
+      if (!p.accepted) why += (why.empty() ? "" : "; ") + p.text;
+    if (!registered_any) dlclose(h);
+    if (!why.empty())
+      fail(ErrorKind::kLibrary, path + ": the NNStreamer 2.x sub-plugin failed its probe: " + why);
+    if (registered_any) {
+      std::string got;
+      for (auto &p : probes)
+        if (p.accepted) got += (got.empty() ? "'" : ", '") + p.text + "'";
+      fail(ErrorKind::kLibrary, path + " registered the NNStreamer 2.x sub-plugin " + got +
+                                    ", not '" + name + "' as its file name says");
+    }
+    fail(ErrorKind::kLibrary, path + " is not a filter back end: it does not export " +
+                                  NNS_FILTER_BACKEND_ENTRY +
+                                  "() and registered no NNStreamer 2.x sub-plugin "
+                                  "(nnstreamer_filter_probe) when loaded");
   }
   const nns_filter_backend_i *t = entry();
   try {
@@ -171,21 +206,70 @@ const nns_filter_backend_i *FilterRegistry::load_file(const std::string &path) {
     throw;
   }
   t = upgrade(t);
-  loaded_[path] = t;  // the handle stays open for the life of the process
-  return t;
+  loaded_[path] = Loaded{t, false};  // the handle stays open for the life of the process
+  return loaded_[path];
+}
+
+bool FilterRegistry::prefers_2x(const FilterConf &conf) {
+  std::string v = lower(trim(conf.value("filter", "subplugin_abi_priority")));
+  return v == "nnstreamer-2" || v == "nnstreamer2" || v == "2.x" || v == "2x";
 }
 
 BackendRef FilterRegistry::find(const std::string &name, const FilterConf &conf) {
+  const bool want_2x = prefers_2x(conf);
+  BackendRef ours, theirs;
   {
     std::lock_guard lk(mu_);
-    if (auto it = builtin_.find(name); it != builtin_.end()) return {it->second, "built-in"};
+    if (auto it = builtin_.find(name); it != builtin_.end()) ours = {it->second, "built-in"};
   }
-  if (name.empty() || name.find('/') != std::string::npos) return {};
-  for (const auto &dir : conf.filter_dirs()) {
-    std::string path = dir + "/" + kPrefix + name + kSuffix;
-    if (is_file(path)) return {load_file(path), path};
+  if (const compat2x::Filter2x *f = compat2x::Filter2xRegistry::get().find(name))
+    theirs = {&f->iface, f->origin};
+  auto settled = [&] { return want_2x ? bool(theirs) : bool(ours); };
+  if (!settled() && !name.empty() && name.find('/') == std::string::npos) {
+    std::string first_error;
+    for (const auto &dir : conf.filter_dirs()) {
+      std::string path = dir + "/" + kPrefix + name + kSuffix;
+      if (!is_file(path)) continue;
+      Loaded l;
+      try {
+        l = load_file(path, name);
+      } catch (const Error &e) {
+        if (first_error.empty()) first_error = e.what();
+        continue;
+      }
+      if (l.is_2x && !theirs) theirs = {l.iface, path};
+      if (!l.is_2x && l.iface && !ours) ours = {l.iface, path};
+      if (settled()) break;
+    }
+    if (!ours && !theirs && !first_error.empty()) fail(ErrorKind::kLibrary, first_error);
   }
-  return {};
+  if (want_2x) return theirs ? theirs : ours;
+  return ours ? ours : theirs;
+}
+
+const compat2x::Filter2x *FilterRegistry::find_2x(const std::string &name, const FilterConf &conf) {
+  auto &reg2x = compat2x::Filter2xRegistry::get();
+  auto one = [&](const std::string &n) -> const compat2x::Filter2x * {
+    if (n.empty()) return nullptr;
+    if (auto *f = reg2x.find(n)) return f;
+    if (n.find('/') != std::string::npos) return nullptr;
+    for (const auto &dir : conf.filter_dirs()) {
+      std::string path = dir + "/" + kPrefix + n + kSuffix;
+      if (!is_file(path)) continue;
+      try {
+        if (load_file(path, n).is_2x) return reg2x.find(n);
+      } catch (const Error &) {
+      }
+    }
+    return nullptr;
+  };
+  if (auto *f = one(name)) return f;
+  for (const char *key : {"subplugin_priority", ""}) {
+    std::string list = *key ? conf.value(name, key) : conf.value("filter-aliases", name);
+    for (auto &n : split(list, ","))
+      if (auto *f = one(trim(n))) return f;
+  }
+  return nullptr;
 }
 
 std::vector<std::string> FilterRegistry::name_candidates(const std::string &framework,
@@ -268,6 +352,7 @@ std::vector<std::string> FilterRegistry::available(const FilterConf &conf) {
     std::vector<std::string> extra;
     for (auto &[n, t] : builtin_)
       if (n != "custom" && n != "custom-easy" && n != "cpp") extra.push_back(n);
+    for (auto &n : compat2x::Filter2xRegistry::get().names()) extra.push_back(n);
     std::sort(extra.begin(), extra.end());
     for (auto &n : extra) push_unique(out, n);
   }

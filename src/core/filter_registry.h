@@ -23,6 +23,9 @@
 #include "nns_filter_backend.h"
 
 namespace nns {
+namespace compat2x {
+struct Filter2x;
+}
 
 // What the registry needs from the configuration (nnstreamer.ini + environment).
 class FilterConf {
@@ -42,7 +45,7 @@ std::unique_ptr<FilterConf> current_filter_conf();
 
 struct BackendRef {
   const nns_filter_backend_i *iface = nullptr;
-  std::string origin;  // "built-in" or the .so path
+  std::string origin;  // "built-in", the .so path, or where an NNStreamer 2.x sub-plugin came from
   explicit operator bool() const { return iface != nullptr; }
 };
 
@@ -57,11 +60,19 @@ class FilterRegistry {
   void add_builtin(const nns_filter_backend_i *iface);
   void remove_builtin(const std::string &name);
 
-  // The back end called exactly `name`: built in, or libnnstreamer_filter_<name>.so from
-  // conf.filter_dirs(). Returns an empty ref when no such file exists; throws
-  // Error(kLibrary) when a file exists but cannot be used (dlopen error, missing entry
-  // point, api_version mismatch), naming the file and both versions.
+  // The back end called exactly `name`: built in, an NNStreamer 2.x sub-plugin registered
+  // with nnstreamer_filter_probe(), or libnnstreamer_filter_<name>.so from conf.filter_dirs()
+  // (our entry point, or a 2.x sub-plugin whose constructor registers `name`). When both kinds
+  // provide `name`, [filter] subplugin_abi_priority decides (prefers_2x()). Returns an empty
+  // ref when nothing provides it; throws Error(kLibrary) when a file exists but cannot be used
+  // (dlopen error, no entry point and no registration, api_version mismatch, a rejected 2.x
+  // probe), naming the file and the reason.
   BackendRef find(const std::string &name, const FilterConf &conf);
+  // The NNStreamer 2.x sub-plugin `name` (registered, or loaded from the folders), also
+  // through [<name>] subplugin_priority and [filter-aliases]; nullptr if none.
+  const compat2x::Filter2x *find_2x(const std::string &name, const FilterConf &conf);
+  // [filter] subplugin_abi_priority: "nnstreamer-cpp" (default) or "nnstreamer-2".
+  static bool prefers_2x(const FilterConf &conf);
 
   // Resolves framework= (a name, an alias, or "auto"/"" with the model files). Throws
   // Error(kNotFound): "framework 'X' is not available: no libnnstreamer_filter_X.so in
@@ -77,7 +88,12 @@ class FilterRegistry {
                                                   const FilterConf &conf);
 
   // Loads one back-end file (cached by path); throws Error(kLibrary) as find() does.
-  const nns_filter_backend_i *load_file(const std::string &path);
+  // `name`: the framework the file is expected to provide (its file name part).
+  struct Loaded {
+    const nns_filter_backend_i *iface = nullptr;
+    bool is_2x = false;  // an NNStreamer 2.x sub-plugin (bridged)
+  };
+  Loaded load_file(const std::string &path, const std::string &name);
 
   // Every usable name: built-ins plus libnnstreamer_filter_*.so in the folders (not loaded).
   std::vector<std::string> available(const FilterConf &conf);
@@ -89,7 +105,7 @@ class FilterRegistry {
   std::mutex mu_;
   std::vector<std::unique_ptr<nns_filter_backend_i>> upgraded_;
   std::unordered_map<std::string, const nns_filter_backend_i *> builtin_;
-  std::unordered_map<std::string, const nns_filter_backend_i *> loaded_;  // by path
+  std::unordered_map<std::string, Loaded> loaded_;  // by path
 };
 
 // Checks a table before use; throws Error(kLibrary) naming `origin`.

@@ -21,6 +21,9 @@ std::string check_converter(const void *t) {
   if (!ex->convert || !ex->get_out_config || !ex->query_caps)
     return "'" + std::string(ex->name) +
            "' rejected: convert, get_out_config and query_caps are mandatory";
+  // NNStreamer reserves these names (a converter can never be selected by them).
+  if (g_ascii_strcasecmp(ex->name, "any") == 0 || g_ascii_strcasecmp(ex->name, "auto") == 0)
+    return "'" + std::string(ex->name) + "' rejected: the name is reserved";
   return {};
 }
 
@@ -41,7 +44,30 @@ ConverterRegistry &ConverterRegistry::instance() {
 }
 
 bool ConverterRegistry::add(const NNStreamerExternalConverter *ex) {
-  return reg_.add(ex);
+  if (!check_converter(ex).empty()) return reg_.add(ex);  // logs why and refuses
+  // registerExternalConverter()'s caller may free or reuse its struct (NNStreamer's converters
+  // often fill one on the stack): keep a copy, with our own copy of the name. Copies are never
+  // freed (elements may still use them); the same registration again reuses its copy.
+  const NNStreamerExternalConverter *kept = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(copies_mutex_);
+    for (const auto &c : copies_) {
+      const NNStreamerExternalConverter &t = c->table;
+      if (c->name == ex->name && t.convert == ex->convert &&
+          t.get_out_config == ex->get_out_config && t.query_caps == ex->query_caps &&
+          t.open == ex->open && t.close == ex->close)
+        kept = &t;
+    }
+    if (!kept) {
+      auto c = std::make_unique<OwnedConverter>();
+      c->name = ex->name;
+      c->table = *ex;
+      c->table.name = c->name.c_str();
+      copies_.push_back(std::move(c));
+      kept = &copies_.back()->table;
+    }
+  }
+  return reg_.add(kept);
 }
 
 bool ConverterRegistry::remove(std::string_view name) {

@@ -9,6 +9,7 @@
 
 #include <gst/gst.h>
 
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -55,6 +56,12 @@ class ConverterRegistry {
  private:
   ConverterRegistry();
 
+  struct OwnedConverter {
+    std::string name;
+    NNStreamerExternalConverter table;
+  };
+  std::mutex copies_mutex_;
+  std::vector<std::unique_ptr<OwnedConverter>> copies_;  // what add() registered (never freed)
   SubpluginRegistry reg_;  // loader and table list shared with the decoder registry
   CustomCallbacks<CustomConverter> customs_;
   unsigned caps_generation_ = ~0u;

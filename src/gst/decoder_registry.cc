@@ -18,9 +18,13 @@ const char *decoder_name(const void *t) {
 std::string check_decoder(const void *t) {
   auto *def = static_cast<const GstTensorDecoderDef *>(t);
   if (!def || !def->modename || !*def->modename) return "rejected: no mode name";
-  if (!def->init || !def->exit || !def->setOption || !def->getOutCaps || !def->decode)
+  // As NNStreamer: exit, setOption and getTransformSize may be NULL.
+  if (!def->init || !def->getOutCaps || !def->decode)
     return "'" + std::string(def->modename) +
-           "' rejected: init, exit, setOption, getOutCaps and decode are mandatory";
+           "' rejected: init, getOutCaps and decode are mandatory";
+  if (g_ascii_strcasecmp(def->modename, "any") == 0 ||
+      g_ascii_strcasecmp(def->modename, "auto") == 0)
+    return "'" + std::string(def->modename) + "' rejected: the name is reserved";
   return {};
 }
 

@@ -28,14 +28,16 @@ void promote_self_global(void *anchor) {
 
 bool SubpluginRegistry::add(const void *table) {
   std::string why = t_.check(table);
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   if (!why.empty()) {
     GST_WARNING("%s sub-plugin %s", t_.noun, why.c_str());
+    rejections_.push_back(why);
     return false;
   }
   const char *name = t_.name_of(table);
-  std::lock_guard<std::recursive_mutex> lock(mutex_);
   if (lookup_locked(name)) {
     GST_WARNING("%s sub-plugin '%s' is already registered", t_.noun, name);
+    rejections_.push_back("'" + std::string(name) + "' is already registered");
     return false;
   }
   tables_.emplace_back(name, table);
@@ -69,6 +71,7 @@ void SubpluginRegistry::load_file(const std::string &name, const std::string &pa
   if (std::find(tried_paths_.begin(), tried_paths_.end(), path) != tried_paths_.end()) return;
   tried_paths_.push_back(path);
   promote_self_global(t_.anchor);
+  const std::size_t rejected_before = rejections_.size();
   void *handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char *err = dlerror();
@@ -83,6 +86,14 @@ void SubpluginRegistry::load_file(const std::string &name, const std::string &pa
     return;
   }
   auto entry = reinterpret_cast<const void *(*)()>(dlsym(handle, t_.entry_symbol));
+  if (!entry && rejections_.size() > rejected_before) {
+    // NNStreamer style: the constructor's registration was refused.
+    std::string why;
+    for (std::size_t i = rejected_before; i < rejections_.size(); ++i)
+      why += (why.empty() ? "" : "; ") + rejections_[i];
+    fail_load(name, path + ": the " + noun + " sub-plugin failed its probe: " + why);
+    return;
+  }
   if (!entry) {
     fail_load(name, path + " neither registered a " + noun + " named '" + name + "' nor exports " +
                         entry_name + "()");

@@ -67,7 +67,8 @@ class SubpluginRegistry {
   std::vector<std::pair<const void *, void *>> handles_;  // table -> dlopen handle
   std::vector<std::string> tried_paths_;                  // files already dlopen'ed (or failed)
   std::vector<std::pair<std::string, std::string>> load_errors_;
-  const void *scanned_conf_ = nullptr;  // configuration whose folders were last loaded
+  std::vector<std::string> rejections_;  // why add() refused tables, in order
+  const void *scanned_conf_ = nullptr;   // configuration whose folders were last loaded
   unsigned generation_ = 0;
 };
 

@@ -526,7 +526,12 @@ TEST(TensorConverter, InProcessSubpluginRegistration) {
                                            inproc_caps, nullptr,        nullptr};
   ASSERT_TRUE(registerExternalConverter(&ex));
   EXPECT_FALSE(registerExternalConverter(&ex));  // taken
-  EXPECT_EQ(nnstreamer_converter_find("inproc"), &ex);
+  // The registry keeps its own copy of the table (the caller may free its struct).
+  const NNStreamerExternalConverter *found = nnstreamer_converter_find("inproc");
+  ASSERT_NE(found, nullptr);
+  EXPECT_NE(found, &ex);
+  EXPECT_STREQ(found->name, "inproc");
+  EXPECT_EQ(found->convert, &inproc_convert);
   {
     Conv conv;
     gchar *list = nullptr;

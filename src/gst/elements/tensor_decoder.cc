@@ -79,7 +79,7 @@ struct DecoderPriv {
   }
 
   void release() {
-    if (def && pdata) def->exit(&pdata);
+    if (def && pdata && def->exit) def->exit(&pdata);
     def = nullptr;
     pdata = nullptr;
     custom.reset();
@@ -155,9 +155,10 @@ void configure(DecoderPriv *p, GstElement *element) {
     throw nns::Error(nns::ErrorKind::kSettings, "mode '" + p->mode + "': decoder init failed");
   for (int i = 0; i < kNumOptions; ++i) {
     if (!p->options[i]) continue;
+    if (!def->setOption) break;  // optional, as in NNStreamer: the decoder takes no options
     if (!def->setOption(&pdata, i, p->options[i]->c_str())) {
       std::string why = decoder_reason(pdata);
-      def->exit(&pdata);
+      if (def->exit) def->exit(&pdata);
       throw nns::Error(nns::ErrorKind::kSettings,
                        "mode '" + p->mode + "' rejected option" + std::to_string(i + 1) + "='" +
                            *p->options[i] + "'" + (why.empty() ? "" : ": " + why));
