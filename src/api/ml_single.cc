@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "api/ml_nnfw_names.h"
 #include "api/ml_single_handle.h"
 #include "core/filter_desc.h"
 #include "nnstreamer-single.h"
@@ -15,86 +16,14 @@ using namespace nns::api;
 
 namespace {
 
+// framework= of `nnfw` ("auto" for ANY), accelerator= of `hw` ("" for ANY); nullptr if invalid.
 const char *framework_name(ml_nnfw_type_e nnfw) {
-  switch (nnfw) {
-    case ML_NNFW_TYPE_ANY:
-      return "auto";
-    case ML_NNFW_TYPE_CUSTOM_FILTER:
-      return "custom";
-    case ML_NNFW_TYPE_TENSORFLOW_LITE:
-      return "tensorflow-lite";
-    case ML_NNFW_TYPE_TENSORFLOW:
-      return "tensorflow";
-    case ML_NNFW_TYPE_NNFW:
-      return "nnfw";
-    case ML_NNFW_TYPE_MVNC:
-      return "movidius-ncsdk2";
-    case ML_NNFW_TYPE_OPENVINO:
-      return "openvino";
-    case ML_NNFW_TYPE_VIVANTE:
-      return "vivante";
-    case ML_NNFW_TYPE_EDGE_TPU:
-      return "edgetpu";
-    case ML_NNFW_TYPE_ARMNN:
-      return "armnn";
-    case ML_NNFW_TYPE_SNPE:
-      return "snpe";
-    case ML_NNFW_TYPE_PYTORCH:
-      return "pytorch";
-    case ML_NNFW_TYPE_NNTR_INF:
-      return "nntrainer";
-    case ML_NNFW_TYPE_VD_AIFW:
-      return "vd_aifw";
-    case ML_NNFW_TYPE_TRIX_ENGINE:
-      return "trix-engine";
-    case ML_NNFW_TYPE_MXNET:
-      return "mxnet";
-    case ML_NNFW_TYPE_TVM:
-      return "tvm";
-    case ML_NNFW_TYPE_ONNX_RUNTIME:
-      return "onnxruntime";
-    case ML_NNFW_TYPE_NCNN:
-      return "ncnn";
-    case ML_NNFW_TYPE_TENSORRT:
-      return "tensorrt";
-    case ML_NNFW_TYPE_QNN:
-      return "qnn";
-    case ML_NNFW_TYPE_LLAMACPP:
-      return "llamacpp";
-    case ML_NNFW_TYPE_TIZEN_HAL:
-      return "tizen-hal";
-    case ML_NNFW_TYPE_SNAP:
-      return "snap";
-  }
-  return nullptr;
+  const char *n = nns::ml::nnfw_name(nnfw);
+  return n && !*n ? "auto" : n;
 }
 
-const char *accelerator_for(ml_nnfw_hw_e hw) {
-  switch (hw) {
-    case ML_NNFW_HW_ANY:
-      return "";
-    case ML_NNFW_HW_AUTO:
-      return "true:auto";
-    case ML_NNFW_HW_CPU:
-      return "true:cpu";
-    case ML_NNFW_HW_CPU_SIMD:
-      return "true:cpu.simd";
-    case ML_NNFW_HW_GPU:
-      return "true:gpu";
-    case ML_NNFW_HW_NPU:
-      return "true:npu";
-    case ML_NNFW_HW_NPU_MOVIDIUS:
-      return "true:npu.movidius";
-    case ML_NNFW_HW_NPU_EDGE_TPU:
-      return "true:npu.edgetpu";
-    case ML_NNFW_HW_NPU_VIVANTE:
-      return "true:npu.vivante";
-    case ML_NNFW_HW_NPU_SLSI:
-      return "true:npu.slsi";
-    case ML_NNFW_HW_NPU_SR:
-      return "true:npu.sr";
-  }
-  return nullptr;
+std::string accelerator_value(const char *hw) {
+  return hw && *hw ? std::string("true:") + hw : std::string();
 }
 
 int open_common(ml_single_h *single, const char *models, const char *framework,
@@ -280,7 +209,7 @@ NNS_API int ml_single_open_full(ml_single_h *single, const char *model,
   if (!fw)
     return report(ML_ERROR_INVALID_PARAMETER,
                   "ml_single_open: nnfw " + std::to_string(nnfw) + " is not a framework type");
-  const char *accel = accelerator_for(hw);
+  const char *accel = nns::ml::hw_name(hw);
   if (!accel)
     return report(ML_ERROR_INVALID_PARAMETER,
                   "ml_single_open: hw " + std::to_string(hw) + " is not a hardware type");
@@ -288,7 +217,7 @@ NNS_API int ml_single_open_full(ml_single_h *single, const char *model,
   TensorsInfoHandle *out = output_info ? as_info(output_info) : nullptr;
   if ((input_info && !in) || (output_info && !out))
     return report(ML_ERROR_INVALID_PARAMETER, "ml_single_open: invalid tensors-info handle");
-  return open_common(single, model, fw, in, out, custom_option, accel);
+  return open_common(single, model, fw, in, out, custom_option, accelerator_value(accel).c_str());
 }
 
 NNS_API int ml_single_open(ml_single_h *single, const char *model,
@@ -317,7 +246,7 @@ NNS_API int ml_single_open_with_option(ml_single_h *single, const ml_option_h op
                     fn + ": \"nnfw\" " + std::to_string(*nnfw) + " is not a framework type");
   }
   auto *hw = static_cast<ml_nnfw_hw_e *>(get("hw"));
-  const char *accel = accelerator_for(hw ? *hw : ML_NNFW_HW_ANY);
+  const char *accel = nns::ml::hw_name(hw ? *hw : ML_NNFW_HW_ANY);
   if (!accel)
     return report(ML_ERROR_INVALID_PARAMETER,
                   fn + ": \"hw\" " + std::to_string(*hw) + " is not a hardware type");
@@ -327,7 +256,8 @@ NNS_API int ml_single_open_with_option(ml_single_h *single, const ml_option_h op
     return report(ML_ERROR_INVALID_PARAMETER, fn + ": \"" +
                                                   (in_v && !in ? "input_info" : "output_info") +
                                                   "\" is not an ml_tensors_info_h");
-  return open_common(single, models, fw, in, out, static_cast<const char *>(get("custom")), accel);
+  return open_common(single, models, fw, in, out, static_cast<const char *>(get("custom")),
+                     accelerator_value(accel).c_str());
 }
 
 NNS_API int ml_single_close(ml_single_h single) {

@@ -10,6 +10,7 @@
 
 #include <map>
 
+#include "api/ml_nnfw_names.h"
 #include "api_pipeline/pipeline_internal.h"
 #include "core/c_tensor_info.h"
 #include "core/filter_registry.h"
@@ -119,93 +120,6 @@ gboolean if_invoke(const GstTensorsInfo *info, const GstTensorMemory *input, voi
   }
   *result = r != 0;
   return TRUE;
-}
-
-const char *nnfw_subplugin(ml_nnfw_type_e nnfw) {
-  switch (nnfw) {
-    case ML_NNFW_TYPE_CUSTOM_FILTER:
-      return "custom";
-    case ML_NNFW_TYPE_TENSORFLOW_LITE:
-      return "tensorflow-lite";
-    case ML_NNFW_TYPE_TENSORFLOW:
-      return "tensorflow";
-    case ML_NNFW_TYPE_NNFW:
-      return "nnfw";
-    case ML_NNFW_TYPE_MVNC:
-      return "movidius-ncsdk2";
-    case ML_NNFW_TYPE_OPENVINO:
-      return "openvino";
-    case ML_NNFW_TYPE_VIVANTE:
-      return "vivante";
-    case ML_NNFW_TYPE_EDGE_TPU:
-      return "edgetpu";
-    case ML_NNFW_TYPE_ARMNN:
-      return "armnn";
-    case ML_NNFW_TYPE_SNPE:
-      return "snpe";
-    case ML_NNFW_TYPE_PYTORCH:
-      return "pytorch";
-    case ML_NNFW_TYPE_NNTR_INF:
-      return "nntrainer";
-    case ML_NNFW_TYPE_VD_AIFW:
-      return "vd_aifw";
-    case ML_NNFW_TYPE_TRIX_ENGINE:
-      return "trix-engine";
-    case ML_NNFW_TYPE_MXNET:
-      return "mxnet";
-    case ML_NNFW_TYPE_TVM:
-      return "tvm";
-    case ML_NNFW_TYPE_ONNX_RUNTIME:
-      return "onnxruntime";
-    case ML_NNFW_TYPE_NCNN:
-      return "ncnn";
-    case ML_NNFW_TYPE_TENSORRT:
-      return "tensorrt";
-    case ML_NNFW_TYPE_QNN:
-      return "qnn";
-    case ML_NNFW_TYPE_LLAMACPP:
-      return "llamacpp";
-    case ML_NNFW_TYPE_TIZEN_HAL:
-      return "tizen-hal";
-    case ML_NNFW_TYPE_SNAP:
-      return "snap";
-    case ML_NNFW_TYPE_ANY:
-      return "";
-  }
-  return nullptr;
-}
-
-// tensor_filter accelerator= name of `hw` ("" for ANY/AUTO: no hardware check), nullptr when
-// `hw` is not an ml_nnfw_hw_e value. 0x1nnn, 0x2nnn, 0x3nnn: a numbered CPU, GPU or NPU.
-const char *accelerator_name(ml_nnfw_hw_e hw) {
-  switch (hw) {
-    case ML_NNFW_HW_ANY:
-    case ML_NNFW_HW_AUTO:
-      return "";
-    case ML_NNFW_HW_CPU:
-      return "cpu";
-    case ML_NNFW_HW_CPU_SIMD:
-      return "cpu.simd";
-    case ML_NNFW_HW_GPU:
-      return "gpu";
-    case ML_NNFW_HW_NPU:
-      return "npu";
-    case ML_NNFW_HW_NPU_MOVIDIUS:
-      return "npu.movidius";
-    case ML_NNFW_HW_NPU_EDGE_TPU:
-      return "npu.edgetpu";
-    case ML_NNFW_HW_NPU_VIVANTE:
-      return "npu.vivante";
-    case ML_NNFW_HW_NPU_SLSI:
-      return "npu.slsi";
-    case ML_NNFW_HW_NPU_SR:
-      return "npu.sr";
-  }
-  int h = static_cast<int>(hw);
-  if (h > 0x1000 && h < 0x1100) return "cpu";
-  if (h > 0x2000 && h < 0x3000) return "gpu";
-  if (h > 0x3000 && h < 0x4000) return "npu";
-  return nullptr;
 }
 
 }  // namespace
@@ -391,7 +305,7 @@ NNS_CAPI int ml_check_nnfw_availability_full(ml_nnfw_type_e nnfw, ml_nnfw_hw_e h
   constexpr const char *F = "ml_check_nnfw_availability_full";
   (void)custom_option;  // no back end here takes a hardware-detection option
   if (!available) return fail(ML_ERROR_INVALID_PARAMETER, std::string(F) + ": available is NULL");
-  const char *name = nnfw_subplugin(nnfw);
+  const char *name = nns::ml::nnfw_name(nnfw);
   if (!name)
     return fail(ML_ERROR_INVALID_PARAMETER, std::string(F) + ": nnfw " +
                                                 std::to_string(static_cast<int>(nnfw)) +
@@ -399,7 +313,7 @@ NNS_CAPI int ml_check_nnfw_availability_full(ml_nnfw_type_e nnfw, ml_nnfw_hw_e h
   if (!*name)
     return fail(ML_ERROR_INVALID_PARAMETER,
                 std::string(F) + ": ML_NNFW_TYPE_ANY names no framework; ask for one");
-  const char *accl = accelerator_name(hw);
+  const char *accl = nns::ml::hw_name(hw, true);
   if (!accl) {
     char b[16];
     snprintf(b, sizeof b, "%x", static_cast<unsigned>(hw));
@@ -414,7 +328,7 @@ NNS_CAPI int ml_check_nnfw_availability_full(ml_nnfw_type_e nnfw, ml_nnfw_hw_e h
       if (!ref) continue;
       // ANY/AUTO: the framework is there. Otherwise the back end decides; one without a
       // check runs on the CPU only.
-      if (!*accl)
+      if (!*accl || std::string_view(accl) == "auto")
         *available = true;
       else if (ref.iface->check_accelerator)
         *available = ref.iface->check_accelerator(accl) == 0;
