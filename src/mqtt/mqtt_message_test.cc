@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -150,4 +151,38 @@ TEST(MqttMessage, RebaseMovesTimestampsOntoTheReceiverBase) {
 
 TEST(MqttMessage, BaseTimeEpoch) {
   EXPECT_EQ(base_time_epoch(1'000'000'000'000LL, 5000, 2000), 1'000'000'000'000LL - 3000);
+}
+
+// The hex example of docs/wire-mqtt.md.
+TEST(MqttMessage, WireDocExample) {
+  MessageHeader h;
+  h.mem_sizes = {4};
+  h.base_time_epoch = 1700000000000000000LL;
+  h.sent_time_epoch = h.base_time_epoch + 5000000;
+  h.duration = 33000000;
+  h.pts = 1000000;
+  h.caps = "application/octet-stream";
+  std::vector<uint8_t> m(kHeaderSize + 4);
+  write_header(h, m.data());
+  const uint8_t data[] = {0xde, 0xad, 0xbe, 0xef};
+  std::memcpy(m.data() + kHeaderSize, data, 4);
+  auto hex = [&](std::size_t off) {
+    std::string s;
+    char b[4];
+    for (std::size_t i = 0; i < 16 && off + i < m.size(); ++i) {
+      std::snprintf(b, sizeof b, "%02x ", m[off + i]);
+      s += b;
+    }
+    return s;
+  };
+  EXPECT_EQ(hex(0x00), "01 00 00 00 00 00 00 00 04 00 00 00 00 00 00 00 ");
+  EXPECT_EQ(hex(0x10), "00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 ");
+  EXPECT_EQ(hex(0x80), "00 00 00 00 00 00 00 00 00 00 2a 36 fe 9c 97 17 ");
+  EXPECT_EQ(hex(0x90), "40 4b 76 36 fe 9c 97 17 40 8a f7 01 00 00 00 00 ");
+  EXPECT_EQ(hex(0xa0), "ff ff ff ff ff ff ff ff 40 42 0f 00 00 00 00 00 ");
+  EXPECT_EQ(hex(0xb0), "61 70 70 6c 69 63 61 74 69 6f 6e 2f 6f 63 74 65 ");
+  EXPECT_EQ(hex(0xc0), "74 2d 73 74 72 65 61 6d 00 00 00 00 00 00 00 00 ");
+  EXPECT_EQ(hex(0x400), "de ad be ef ");
+  for (std::size_t i = 0xc9; i < kHeaderSize; ++i) ASSERT_EQ(m[i], 0) << i;
+  EXPECT_EQ(parse_message(m.data(), m.size()).caps, "application/octet-stream");
 }
