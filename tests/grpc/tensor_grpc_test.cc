@@ -16,6 +16,7 @@
 #include "gst/tensor_caps.h"
 #include "nnstreamer_grpc.grpc.pb.h"
 #include "support/deadline.h"
+#include "support/harness.h"
 
 using namespace std::chrono_literals;
 

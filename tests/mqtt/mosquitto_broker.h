@@ -13,11 +13,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <thread>
-
-#include "support/harness.h"
 
 extern char **environ;
 
@@ -57,7 +56,8 @@ inline const char *mosquitto_path() {
 class Broker {
  public:
   explicit Broker(uint16_t port = 0) : port_(port ? port : free_port()) {
-    dir_ = nns::test::make_temp_dir();
+    char tmpl[] = "/tmp/nns_mosquitto_XXXXXX";
+    dir_ = mkdtemp(tmpl) ? tmpl : "/tmp";
     conf_ = dir_ + "/mosquitto.conf";
     std::ofstream(conf_) << "listener " << port_ << " 127.0.0.1\n"
                          << "allow_anonymous true\npersistence false\n"
@@ -122,7 +122,8 @@ class Broker {
 
 }  // namespace mqtt_test
 
-// Skips (or fails under CI=true) when Debian's mosquitto is not installed.
+// Skips (or fails under CI=true) when Debian's mosquitto is not installed (tests only: needs
+// support/harness.h).
 #define MQTT_REQUIRE_BROKER(b)                                                    \
   do {                                                                            \
     if (!::mqtt_test::mosquitto_path())                                           \

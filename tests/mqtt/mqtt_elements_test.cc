@@ -21,6 +21,7 @@
 #include "mqtt/mqtt_client.h"
 #include "mqtt/mqtt_message.h"
 #include "support/deadline.h"
+#include "support/harness.h"
 
 using namespace std::chrono_literals;
 using mqtt_test::Broker;
