@@ -4,7 +4,7 @@
 //         -> mqttsrc ! fakesink, QoS 1, frames/s and MB/s from the first to the last frame
 //         received;
 //   grpc: 150 528-byte uint8 tensors (3:224:224:1), tensor_sink_grpc (client) ->
-//         tensor_src_grpc (server), idl=protobuf.
+//         tensor_src_grpc (server), idl=protobuf and idl=flatbuf.
 // usage: among_device_bench [mqtt|grpc] [frames]
 #include <gst/gst.h>
 
@@ -108,17 +108,19 @@ int main(int argc, char **argv) {
           frames, bytes, true);
     }
   }
-  if (which == "all" || which == "grpc") {
+  for (const char *idl : {"protobuf", "flatbuf"}) {
+    if (which != "all" && which != "grpc") break;
     const uint16_t port = mqtt_test::free_port();
     const std::size_t bytes = 3 * 224 * 224;
-    run("grpc protobuf",
-        "tensor_src_grpc name=src host=127.0.0.1 port=" + std::to_string(port) +
-            " num-buffers=" + std::to_string(frames) + " ! fakesink name=out sync=false",
+    run((std::string("grpc ") + idl).c_str(),
+        "tensor_src_grpc name=src host=127.0.0.1 idl=" + std::string(idl) +
+            " port=" + std::to_string(port) + " num-buffers=" + std::to_string(frames) +
+            " ! fakesink name=out sync=false",
         "fakesrc num-buffers=" + std::to_string(frames) +
             " sizetype=fixed filltype=zero sizemax=" + std::to_string(bytes) +
             " ! other/tensors,format=static,num_tensors=1,dimensions=3:224:224:1,types=uint8,"
-            "framerate=30/1 ! tensor_sink_grpc host=127.0.0.1 port=" +
-            std::to_string(port),
+            "framerate=30/1 ! tensor_sink_grpc host=127.0.0.1 idl=" +
+            idl + " port=" + std::to_string(port),
         frames, bytes, false);
   }
   return 0;

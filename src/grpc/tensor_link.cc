@@ -6,11 +6,9 @@
 #include <atomic>
 
 #include "core/error.h"
-#include "nnstreamer_grpc.grpc.pb.h"
+#include "grpc/link_core.h"
 
 namespace nns::grpclink {
-
-namespace pb = ::nnstreamer::protobuf;
 
 namespace {
 
@@ -20,39 +18,6 @@ constexpr std::size_t kMaxRank = 16;
 std::size_t type_bytes(uint32_t t) {
   static const std::size_t sizes[] = {4, 4, 2, 2, 1, 1, 8, 4, 8, 8, 2};
   return t < sizeof sizes / sizeof sizes[0] ? sizes[t] : 0;
-}
-
-pb::Tensors to_proto(Frame &&f) {
-  pb::Tensors m;
-  m.set_num_tensor(static_cast<uint32_t>(f.tensors.size()));
-  m.mutable_fr()->set_rate_n(f.rate_n);
-  m.mutable_fr()->set_rate_d(f.rate_d);
-  m.set_format(static_cast<pb::Tensors_Tensor_format>(f.format));
-  for (auto &t : f.tensors) {
-    pb::Tensor *o = m.add_tensor();
-    o->set_name("Anonymous");  // upstream's name for every tensor
-    o->set_type(static_cast<pb::Tensor_Tensor_type>(t.type));
-    for (uint32_t d : t.dims) o->add_dimension(d);
-    o->set_data(std::move(t.data));
-  }
-  return m;
-}
-
-Frame from_proto(pb::Tensors &m) {
-  Frame f;
-  f.rate_n = m.fr().rate_n();
-  f.rate_d = m.fr().rate_d();
-  f.format = static_cast<uint32_t>(m.format());
-  f.tensors.reserve(static_cast<std::size_t>(m.tensor_size()));
-  for (int i = 0; i < m.tensor_size(); ++i) {
-    pb::Tensor *t = m.mutable_tensor(i);
-    Tensor o;
-    o.type = static_cast<uint32_t>(t->type());
-    o.dims.assign(t->dimension().begin(), t->dimension().end());
-    o.data = std::move(*t->mutable_data());
-    f.tensors.push_back(std::move(o));
-  }
-  return f;
 }
 
 }  // namespace
@@ -86,137 +51,54 @@ std::string check_frame(const Frame &f, uint32_t num_tensor_field) {
   return "";
 }
 
-struct Link::Impl final : public pb::TensorService::Service {
-  LinkOptions opts;
-  OnFrame on_frame;
-  OnEnd on_end;
-  std::mutex m;
-  std::condition_variable cv;
-  std::deque<Frame> queue;
-  bool stopping = false;
-  bool flushing = false;
-  bool writes_done = false;
-  bool worker_done = false;
-  std::unique_ptr<grpc::Server> server;
-  std::shared_ptr<grpc::Channel> channel;
-  std::unique_ptr<pb::TensorService::Stub> stub;
-  std::unique_ptr<grpc::ClientContext> ctx;
-  std::thread worker;
-
-  std::string address() const { return opts.host + ":" + std::to_string(opts.port); }
-
-  // Waits for a frame to send; false when stopping (or, for a client, writes are done).
-  bool pop(Frame &f, const std::function<bool()> &cancelled) {
-    std::unique_lock<std::mutex> l(m);
-    for (;;) {
-      if (stopping) return false;
-      if (!queue.empty()) {
-        f = std::move(queue.front());
-        queue.pop_front();
-        cv.notify_all();
-        return true;
-      }
-      if (writes_done) return false;
-      if (cancelled && cancelled()) return false;
-      cv.wait_for(l, std::chrono::milliseconds(100));
+bool Link::Impl::pop(Frame &f, const std::function<bool()> &cancelled) {
+  std::unique_lock<std::mutex> l(m);
+  for (;;) {
+    if (stopping) return false;
+    if (!queue.empty()) {
+      f = std::move(queue.front());
+      queue.pop_front();
+      cv.notify_all();
+      return true;
     }
+    if (writes_done) return false;
+    if (cancelled && cancelled()) return false;
+    cv.wait_for(l, std::chrono::milliseconds(100));
   }
+}
 
-  bool is_stopping() {
-    std::lock_guard<std::mutex> l(m);
-    return stopping;
-  }
+bool Link::Impl::is_stopping() {
+  std::lock_guard<std::mutex> l(m);
+  return stopping;
+}
 
-  // Server side of tensor_src_grpc: clients stream frames in.
-  grpc::Status SendTensors(grpc::ServerContext *c, grpc::ServerReader<pb::Tensors> *reader,
-                           google::protobuf::Empty *) override {
-    if (opts.direction != Direction::kReceive)
-      return {grpc::StatusCode::UNIMPLEMENTED, "this server sends tensors (RecvTensors)"};
-    pb::Tensors msg;
-    while (!is_stopping() && reader->Read(&msg)) {
-      const uint32_t n = msg.num_tensor();
-      Frame f = from_proto(msg);
-      const std::string bad = check_frame(f, n);
-      if (!bad.empty()) {
-        on_end(false, "client " + c->peer() + " sent a bad message: " + bad);
-        return {grpc::StatusCode::INVALID_ARGUMENT, bad};
-      }
-      on_frame(std::move(f));
-    }
-    return grpc::Status::OK;
-  }
+void Link::Impl::set_done() {
+  std::lock_guard<std::mutex> l(m);
+  worker_done = true;
+  cv.notify_all();
+}
 
-  // Server side of tensor_sink_grpc: each client gets the frames as they come.
-  grpc::Status RecvTensors(grpc::ServerContext *c, const google::protobuf::Empty *,
-                           grpc::ServerWriter<pb::Tensors> *writer) override {
-    if (opts.direction != Direction::kSend)
-      return {grpc::StatusCode::UNIMPLEMENTED, "this server receives tensors (SendTensors)"};
-    Frame f;
-    while (pop(f, [c] { return c->IsCancelled(); })) {
-      if (!writer->Write(to_proto(std::move(f))))
-        return {grpc::StatusCode::CANCELLED, "client " + c->peer() + " went away"};
-    }
-    return grpc::Status::OK;
+void Link::Impl::finish_worker(const grpc::Status &s, bool broken) {
+  if (!is_stopping()) {
+    if (s.ok() && !broken)
+      on_end(true, "");
+    else
+      on_end(false, "server " + address() + ": " +
+                        (s.ok() ? std::string("the stream broke") : s.error_message()) +
+                        " (gRPC status " + std::to_string(static_cast<int>(s.error_code())) + ")");
   }
+  set_done();
+}
 
-  void client_send() {
-    google::protobuf::Empty reply;
-    std::unique_ptr<grpc::ClientWriter<pb::Tensors>> w(stub->SendTensors(ctx.get(), &reply));
-    Frame f;
-    bool broken = false;
-    while (pop(f, nullptr)) {
-      if (!w->Write(to_proto(std::move(f)))) {
-        broken = true;
-        break;
-      }
-    }
-    if (!broken) w->WritesDone();
-    const grpc::Status s = w->Finish();
-    finish_worker(s, broken);
-  }
-
-  void client_receive() {
-    std::unique_ptr<grpc::ClientReader<pb::Tensors>> r(
-        stub->RecvTensors(ctx.get(), google::protobuf::Empty()));
-    pb::Tensors msg;
-    while (r->Read(&msg)) {
-      const uint32_t n = msg.num_tensor();
-      Frame f = from_proto(msg);
-      const std::string bad = check_frame(f, n);
-      if (!bad.empty()) {
-        ctx->TryCancel();
-        r->Finish();
-        on_end(false, "server " + address() + " sent a bad message: " + bad);
-        set_done();
-        return;
-      }
-      on_frame(std::move(f));
-    }
-    finish_worker(r->Finish(), false);
-  }
-
-  void set_done() {
-    std::lock_guard<std::mutex> l(m);
-    worker_done = true;
-    cv.notify_all();
-  }
-
-  void finish_worker(const grpc::Status &s, bool broken) {
-    if (!is_stopping()) {
-      if (s.ok() && !broken)
-        on_end(true, "");
-      else
-        on_end(false, "server " + address() + ": " +
-                          (s.ok() ? std::string("the stream broke") : s.error_message()) +
-                          " (gRPC status " + std::to_string(static_cast<int>(s.error_code())) +
-                          ")");
-    }
-    set_done();
-  }
-};
+std::string Link::Impl::deliver(Frame &&f, uint32_t num_tensor_field) {
+  std::string bad = check_frame(f, num_tensor_field);
+  if (bad.empty()) on_frame(std::move(f));
+  return bad;
+}
 
 Link::Link(LinkOptions o, OnFrame on_frame, OnEnd on_end)
-    : opts_(std::move(o)), impl_(std::make_unique<Impl>()) {
+    : opts_(std::move(o)),
+      impl_(opts_.idl == Idl::kFlatbuf ? make_flatbuf_impl() : make_protobuf_impl()) {
   impl_->opts = opts_;
   impl_->on_frame = std::move(on_frame);
   impl_->on_end = std::move(on_end);
@@ -235,7 +117,7 @@ void Link::start() {
   if (opts_.role == Role::kServer) {
     grpc::ServerBuilder b;
     b.AddListeningPort(i.address(), grpc::InsecureServerCredentials(), &bound_port_);
-    b.RegisterService(&i);
+    b.RegisterService(i.service());
     b.SetMaxReceiveMessageSize(-1);
     i.server = b.BuildAndStart();
     if (!i.server || bound_port_ == 0) {
@@ -249,7 +131,7 @@ void Link::start() {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(-1);
   i.channel = grpc::CreateCustomChannel(i.address(), grpc::InsecureChannelCredentials(), args);
-  i.stub = pb::TensorService::NewStub(i.channel);
+  i.make_stub();
   i.ctx = std::make_unique<grpc::ClientContext>();
   if (opts_.direction == Direction::kSend)
     i.worker = std::thread([&i] { i.client_send(); });

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // One end of NNStreamer's gRPC tensor stream (GStreamer-free): the TensorService of
-// tensor_src_grpc / tensor_sink_grpc with idl=protobuf, as server or client, sending or
+// tensor_src_grpc / tensor_sink_grpc (idl=protobuf or flatbuf), as server or client, sending or
 // receiving. Frames are checked on arrival (types, ranks, data sizes) before they are handed on.
 #pragma once
 
@@ -36,10 +36,12 @@ std::string check_frame(const Frame &f, uint32_t num_tensor_field);
 
 enum class Role { kServer, kClient };
 enum class Direction { kSend, kReceive };  // what this end does with frames
+enum class Idl { kProtobuf, kFlatbuf };    // the `idl` property
 
 struct LinkOptions {
   Role role = Role::kClient;
   Direction direction = Direction::kSend;
+  Idl idl = Idl::kProtobuf;
   std::string host = "localhost";
   int port = 55115;              // server: 0 = any free port
   std::size_t queue_limit = 16;  // frames waiting to be sent

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "nnstreamer_fb.grpc.fb.h"
 #include "nnstreamer_grpc.grpc.pb.h"
 
 using namespace nns::grpclink;
@@ -59,4 +60,9 @@ TEST(GrpcTensorLink, CheckFrame) {
   EXPECT_NE(check_frame(f, 1).find("no dimensions"), std::string::npos);
   f.tensors[0] = {6, {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}, ""};
   EXPECT_NE(check_frame(f, 1).find("overflow"), std::string::npos);
+}
+
+TEST(GrpcTensorLink, FlatbufServiceNameIsNNStreamers) {
+  EXPECT_STREQ(nnstreamer::flatbuf::TensorService::service_full_name(),
+               "nnstreamer.flatbuf.TensorService");
 }

@@ -22,13 +22,10 @@ inline constexpr char kDefaultIdl[] = "protobuf";
   "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
   "framerate = (fraction) [ 0, max ]"
 
-// idl must be protobuf or flatbuf (upstream's values); only protobuf is built (docs say why).
-inline void check_idl(const std::string &idl) {
-  if (idl == "protobuf") return;
-  if (idl == "flatbuf")
-    fail(ErrorKind::kSettings,
-         "idl=flatbuf is not available in this build (see docs/elements/tensor_grpc.md); use "
-         "idl=protobuf");
+// idl: protobuf or flatbuf (upstream's values).
+inline grpclink::Idl parse_idl(const std::string &idl) {
+  if (idl == "protobuf") return grpclink::Idl::kProtobuf;
+  if (idl == "flatbuf") return grpclink::Idl::kFlatbuf;
   fail(ErrorKind::kSettings, "idl '" + idl + "' is not one of protobuf, flatbuf");
 }
 

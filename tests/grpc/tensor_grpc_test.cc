@@ -14,6 +14,8 @@
 #include "../mqtt/mosquitto_broker.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
+#include "nnstreamer_fb.grpc.fb.h"
+#include "nnstreamer_fb_generated.h"
 #include "nnstreamer_grpc.grpc.pb.h"
 #include "support/deadline.h"
 #include "support/harness.h"
@@ -152,14 +154,18 @@ void expect_frames(Pipe &rx, const Shape &s, int n) {
 
 }  // namespace
 
-TEST(TensorGrpc, SrcServerFromSinkClient) {
+class TensorGrpcIdl : public ::testing::TestWithParam<const char *> {};
+INSTANTIATE_TEST_SUITE_P(Idl, TensorGrpcIdl, ::testing::Values("protobuf", "flatbuf"));
+
+TEST_P(TensorGrpcIdl, SrcServerFromSinkClient) {
+  const std::string idl = std::string(" idl=") + GetParam();
   for (const auto &s : kShapes) {
     SCOPED_TRACE(s.caps);
     const uint16_t port = mqtt_test::free_port();
-    Pipe rx(rx_desc("port=" + std::to_string(port)));
+    Pipe rx(rx_desc("port=" + std::to_string(port) + idl));
     rx.play();
     ASSERT_TRUE(rx.wait_state("src", GST_STATE_PAUSED));
-    Pipe tx(tx_desc("port=" + std::to_string(port)));
+    Pipe tx(tx_desc("port=" + std::to_string(port) + idl));
     set_caps(tx, s.caps);
     tx.play();
     for (int i = 0; i < 4; ++i)
@@ -174,18 +180,19 @@ TEST(TensorGrpc, SrcServerFromSinkClient) {
   }
 }
 
-TEST(TensorGrpc, SinkServerToSrcClient) {
+TEST_P(TensorGrpcIdl, SinkServerToSrcClient) {
+  const std::string idl = std::string(" idl=") + GetParam();
   for (const auto &s : kShapes) {
     SCOPED_TRACE(s.caps);
     const uint16_t port = mqtt_test::free_port();
-    Pipe tx(tx_desc("server=true port=" + std::to_string(port)));
+    Pipe tx(tx_desc("server=true port=" + std::to_string(port) + idl));
     set_caps(tx, s.caps);
     tx.play();
     ASSERT_TRUE(tx.wait_state("sink", GST_STATE_READY));
     for (int i = 0; i < 4; ++i)
       ASSERT_EQ(gst_app_src_push_buffer(GST_APP_SRC(tx.get("in")), make_buffer(s.sizes, i)),
                 GST_FLOW_OK);
-    Pipe rx(rx_desc("server=false port=" + std::to_string(port)));
+    Pipe rx(rx_desc("server=false port=" + std::to_string(port) + idl));
     rx.play();
     expect_frames(rx, s, 4);
     // The server ends: the client sees the stream finish and ends with EOS.
@@ -287,9 +294,9 @@ TEST(TensorGrpc, SettingsAndDefaults) {
   gst_object_unref(src);
   gst_object_unref(sink);
   {
-    Pipe rx(rx_desc("idl=flatbuf port=0"));
+    Pipe rx(rx_desc("idl=json port=0"));
     rx.play();
-    EXPECT_NE(rx.wait_end().find("src: idl=flatbuf is not available in this build"),
+    EXPECT_NE(rx.wait_end().find("src: idl 'json' is not one of protobuf, flatbuf"),
               std::string::npos);
   }
   {
@@ -300,5 +307,47 @@ TEST(TensorGrpc, SettingsAndDefaults) {
     gint p = 0;
     g_object_get(rx.get("src"), "port", &p, nullptr);
     EXPECT_GT(p, 0);
+  }
+}
+
+// idl=flatbuf: a peer whose message does not pass the flatbuffers verifier, and one whose tensor
+// data is short.
+TEST(TensorGrpc, BadFlatbufMessageFromAPeer) {
+  namespace fb = nnstreamer::flatbuf;
+  for (int bad_kind = 0; bad_kind < 2; ++bad_kind) {
+    const uint16_t port = mqtt_test::free_port();
+    Pipe rx(rx_desc("idl=flatbuf port=" + std::to_string(port)));
+    rx.play();
+    ASSERT_TRUE(rx.wait_state("src", GST_STATE_PAUSED));
+    auto ch = grpc::CreateChannel("127.0.0.1:" + std::to_string(port),
+                                  grpc::InsecureChannelCredentials());
+    auto stub = fb::TensorService::NewStub(ch);
+    grpc::ClientContext ctx;
+    flatbuffers::grpc::Message<fb::Empty> reply;
+    auto w = stub->SendTensors(&ctx, &reply);
+    flatbuffers::grpc::MessageBuilder b;
+    if (bad_kind == 0) {
+      // A root table whose vtable offset points far outside the buffer.
+      const uint8_t junk[] = {4, 0, 0, 0, 0xff, 0xff, 0xff, 0x7f};
+      w->Write(flatbuffers::grpc::Message<fb::Tensors>(::grpc::Slice(junk, sizeof junk)));
+    } else {
+      const uint32_t dims[] = {4};
+      const uint8_t data[15] = {};
+      auto t = fb::CreateTensor(b, b.CreateString("x"), fb::Tensor_type_NNS_FLOAT32,
+                                b.CreateVector(dims, 1), b.CreateVector(data, 15));
+      const fb::frame_rate fr(1, 1);
+      b.Finish(fb::CreateTensors(b, 1, &fr, b.CreateVector(&t, 1)));
+      w->Write(b.ReleaseMessage<fb::Tensors>());
+    }
+    w->WritesDone();
+    const grpc::Status st = w->Finish();
+    EXPECT_EQ(st.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    const std::string err = rx.wait_end();
+    EXPECT_NE(err.find("src: client ipv4:127.0.0.1:"), std::string::npos) << err;
+    EXPECT_NE(err.find(bad_kind == 0 ? "not a valid flatbuffers Tensors table"
+                                     : "tensor 0: 15 bytes of data but its type and dimensions "
+                                       "need 16"),
+              std::string::npos)
+        << err;
   }
 }

@@ -2,8 +2,8 @@
 /**
  * SECTION:element-tensor_sink_grpc
  *
- * Sends static tensor frames over NNStreamer's gRPC TensorService (idl=protobuf): as a client
- * (server=FALSE, default) it streams them to a tensor_src_grpc server with SendTensors; as a
+ * Sends static tensor frames over NNStreamer's gRPC TensorService (idl=protobuf or flatbuf): as a
+ * client (server=FALSE, default) it streams them to a tensor_src_grpc server with SendTensors; as a
  * server (server=TRUE) connected tensor_src_grpc clients receive them with RecvTensors. Either
  * peer can be NNStreamer's. `out` counts the messages sent. See docs/elements/tensor_grpc.md.
  *
@@ -137,7 +137,6 @@ static gboolean sink_grpc_start(GstBaseSink *sink) {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->settings;
     }
-    gg::check_idl(s.idl);
     p->out = 0;
     {
       std::lock_guard<std::mutex> l(p->err_lock);
@@ -146,6 +145,7 @@ static gboolean sink_grpc_start(GstBaseSink *sink) {
     nns::grpclink::LinkOptions o;
     o.role = s.server ? nns::grpclink::Role::kServer : nns::grpclink::Role::kClient;
     o.direction = nns::grpclink::Direction::kSend;
+    o.idl = gg::parse_idl(s.idl);
     o.host = s.host;
     o.port = s.port;
     GstElement *self = GST_ELEMENT(sink);

@@ -2,8 +2,8 @@
 /**
  * SECTION:element-tensor_src_grpc
  *
- * Receives static tensor frames over NNStreamer's gRPC TensorService (idl=protobuf): as a
- * server (server=TRUE, default) tensor_sink_grpc clients stream to it with SendTensors; as a
+ * Receives static tensor frames over NNStreamer's gRPC TensorService (idl=protobuf or flatbuf): as
+ * a server (server=TRUE, default) tensor_sink_grpc clients stream to it with SendTensors; as a
  * client (server=FALSE) it reads a tensor_sink_grpc server's RecvTensors stream. Either peer can
  * be NNStreamer's. The caps come from the frames (types, dimensions, framerate); timestamps
  * are count x framerate as upstream, and a framerate of 0/1 ends the stream after one frame as
@@ -154,11 +154,11 @@ static gboolean src_grpc_start(GstBaseSrc *src) {
       p->config = {};
       p->eos_next = false;
     }
-    gg::check_idl(s.idl);
     p->out = 0;
     nns::grpclink::LinkOptions o;
     o.role = s.server ? nns::grpclink::Role::kServer : nns::grpclink::Role::kClient;
     o.direction = nns::grpclink::Direction::kReceive;
+    o.idl = gg::parse_idl(s.idl);
     o.host = s.host;
     o.port = s.port;
     p->link = std::make_unique<nns::grpclink::Link>(
