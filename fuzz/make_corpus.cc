@@ -3,6 +3,7 @@
 // 1..16, 1, 2, 16 and 17 tensors, names, flexible format, odd rates) for each wire format, and
 // valid flexible/sparse headers. usage: nns_fuzz_corpus <out-dir>  (makes <out-dir>/<target>/)
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "core/meta_header.h"
 #include "mqtt/mqtt_message.h"
+#include "edge/edge_wire.h"
 #include "wire.h"
 
 namespace {
@@ -128,6 +130,45 @@ int main(int argc, char **argv) {
     std::vector<uint8_t> m(nns::mqtt::kHeaderSize + h.payload_size(), 0x42);
     nns::mqtt::write_header(h, m.data());
     save(mdir, n++, m.data(), m.size());
+  }
+  const fs::path iio = root / "iio_channel";
+  fs::create_directories(iio);
+  n = 0;
+  for (const char *seed : {"le:s12/16>>4\n\x12\x34", "be:u10/16>>6\n\xff\xc0",
+                           "le:s24/32>>8\n\x01\x02\x03\x84", "le:s64/64>>0\n01234567",
+                           "be:s8/8>>0\n\x80", "le:u24/24>>0\n\x01\x02\x83"}) {
+    save(iio, n++, reinterpret_cast<const uint8_t *>(seed), std::strlen(seed));
+  }
+  {  // nnstreamer-edge TCP frames: handshake frames, a data frame with metadata, a goodbye.
+    const fs::path edir = root / "edge_frame";
+    fs::create_directories(edir);
+    namespace e = nns::edge;
+    auto frame = [](e::Cmd cmd, std::vector<std::vector<uint8_t>> mems, e::Metadata meta) {
+      e::Header h;
+      h.cmd = cmd;
+      h.client_id = 1234;
+      for (auto &m : mems) h.mem_sizes.push_back(m.size());
+      const auto mb = meta.serialize();
+      h.meta_size = mb.size();
+      const auto hb = e::encode_header(h);
+      std::vector<uint8_t> out(hb.begin(), hb.end());
+      for (auto &m : mems) out.insert(out.end(), m.begin(), m.end());
+      out.insert(out.end(), mb.begin(), mb.end());
+      return out;
+    };
+    const std::string caps = "@query_server_src_caps@ANY@query_server_sink_caps@ANY";
+    e::Metadata meta;
+    meta.set("client_id", "1234");
+    std::vector<std::vector<uint8_t>> seeds = {
+        frame(e::Cmd::kCapability, {std::vector<uint8_t>(caps.begin(), caps.end())}, {}),
+        frame(e::Cmd::kHostInfo, {{'1', '2', '7', '.', '0', '.', '0', '.', '1', ':', '9', 0}}, {}),
+        frame(e::Cmd::kTransferData, {std::vector<uint8_t>(64, 7), {1, 2, 3}}, meta),
+        frame(e::Cmd::kError, {}, {})};
+    std::vector<uint8_t> two = seeds[2];
+    two.insert(two.end(), seeds[3].begin(), seeds[3].end());
+    seeds.push_back(two);
+    int k = 0;
+    for (auto &b : seeds) save(edir, k++, b.data(), b.size());
   }
   std::printf("seed corpus written to %s\n", root.c_str());
   return 0;

@@ -84,6 +84,10 @@ fi
 build_tree "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE"
 status=$format_status
 run_ctest "$BUILD_DIR" "$@" || status=1
+# The Python package's pytest summary (python_api.pytest, tests/python-api.cmake).
+py_summary=$(grep -E '^[0-9]+ (passed|failed|skipped|error).* in [0-9.]+s' \
+  "$BUILD_DIR/Testing/Temporary/LastTest.log" 2>/dev/null | tail -n 1 || true)
+[[ -z $py_summary ]] || say "pytest (python/tests): $py_summary"
 
 if [[ -z ${NNS_SANITIZE:-} ]]; then
   if [[ ${CI:-} == true ]]; then NNS_SANITIZE=1; else NNS_SANITIZE=0; fi

@@ -16,48 +16,6 @@ extern "C" {
 
 typedef void *ml_single_h;
 
-typedef enum {
-  ML_NNFW_TYPE_ANY = 0,
-  ML_NNFW_TYPE_CUSTOM_FILTER = 1,
-  ML_NNFW_TYPE_TENSORFLOW_LITE = 2,
-  ML_NNFW_TYPE_TENSORFLOW = 3,
-  ML_NNFW_TYPE_NNFW = 4,
-  ML_NNFW_TYPE_MVNC = 5,
-  ML_NNFW_TYPE_OPENVINO = 6,
-  ML_NNFW_TYPE_VIVANTE = 7,
-  ML_NNFW_TYPE_EDGE_TPU = 8,
-  ML_NNFW_TYPE_ARMNN = 9,
-  ML_NNFW_TYPE_SNPE = 10,
-  ML_NNFW_TYPE_PYTORCH = 11,
-  ML_NNFW_TYPE_NNTR_INF = 12,
-  ML_NNFW_TYPE_VD_AIFW = 13,
-  ML_NNFW_TYPE_TRIX_ENGINE = 14,
-  ML_NNFW_TYPE_MXNET = 15,
-  ML_NNFW_TYPE_TVM = 16,
-  ML_NNFW_TYPE_ONNX_RUNTIME = 17,
-  ML_NNFW_TYPE_NCNN = 18,
-  ML_NNFW_TYPE_TENSORRT = 19,
-  ML_NNFW_TYPE_QNN = 20,
-  ML_NNFW_TYPE_LLAMACPP = 21,
-  ML_NNFW_TYPE_TIZEN_HAL = 22,
-  ML_NNFW_TYPE_SNAP = 0x2001,
-} ml_nnfw_type_e;
-
-typedef enum {
-  ML_NNFW_HW_ANY = 0,
-  ML_NNFW_HW_AUTO = 1,
-  ML_NNFW_HW_CPU = 0x1000,
-  ML_NNFW_HW_CPU_SIMD = 0x1100,
-  ML_NNFW_HW_CPU_NEON = 0x1100,
-  ML_NNFW_HW_GPU = 0x2000,
-  ML_NNFW_HW_NPU = 0x3000,
-  ML_NNFW_HW_NPU_MOVIDIUS = 0x3001,
-  ML_NNFW_HW_NPU_EDGE_TPU = 0x3002,
-  ML_NNFW_HW_NPU_VIVANTE = 0x3003,
-  ML_NNFW_HW_NPU_SLSI = 0x3004,
-  ML_NNFW_HW_NPU_SR = 0x13000,
-} ml_nnfw_hw_e;
-
 /* model: path(s), ',' separated. input_info/output_info may be NULL when the model knows its
  * shapes; when given they are checked against (or applied to) the model. */
 int ml_single_open(ml_single_h *single, const char *model, const ml_tensors_info_h input_info,

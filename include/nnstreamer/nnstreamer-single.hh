@@ -35,7 +35,11 @@ class Error : public std::runtime_error {
 inline void check(int rc, const char *what) {
   if (rc != ML_ERROR_NONE) {
     const char *detail = ml_error();
-    throw Error(rc, std::string(what) + ": " + (detail && *detail ? detail : ml_strerror(rc)));
+    const char *text = ml_strerror(rc);
+    throw Error(rc, std::string(what) + ": " +
+                        (detail && *detail ? detail
+                         : text            ? text
+                                           : "error " + std::to_string(rc)));
   }
 }
 
@@ -68,7 +72,8 @@ class Handle {
 
 class TensorsInfo : public Handle<ml_tensors_info_h, ml_tensors_info_destroy> {
  public:
-  TensorsInfo() { check(ml_tensors_info_create(&h_), "ml_tensors_info_create"); }
+  // Extended (rank limit 16); TensorsInfo(ml_tensors_info_h) adopts a handle of either kind.
+  TensorsInfo() { check(ml_tensors_info_create_extended(&h_), "ml_tensors_info_create_extended"); }
   explicit TensorsInfo(ml_tensors_info_h adopt) : Handle(adopt) {}
   unsigned count() const {
     unsigned n = 0;

@@ -125,6 +125,36 @@ typedef struct {
   };
 } GstTensorMetaInfo;
 
+/* One element of any tensor type, for code written once for every type. */
+#if defined(FLOAT16_SUPPORT)
+#if defined(__aarch64__) || defined(__arm__)
+typedef __fp16 float16; /* 32-bit Arm needs -mfp16-format=ieee */
+#elif defined(__x86_64) || defined(__i686__)
+typedef _Float16 float16;
+#else
+#error "FLOAT16_SUPPORT needs aarch64, arm or x86/x86-64"
+#endif
+#endif
+
+typedef union {
+  int32_t _int32_t;
+  uint32_t _uint32_t;
+  int16_t _int16_t;
+  uint16_t _uint16_t;
+  int8_t _int8_t;
+  uint8_t _uint8_t;
+  double _double;
+  float _float;
+  int64_t _int64_t;
+  uint64_t _uint64_t;
+#ifdef FLOAT16_SUPPORT
+  float16 _float16;
+#endif
+} tensor_element;
+
+/* Callback receiving one frame of tensors (data is only valid during the call). */
+typedef int (*GstTensorDataCallback)(GstTensorMemory *data, GstTensorsInfo *info, void *user_data);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,10 +1,18 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// ml_tensors_info_*, ml_tensors_data_*, ml_option_*, ml_error: the common part of the ML API.
+// ml_tensors_info_*, ml_tensors_data_*, ml_option_*, ml_error, ml_api_get_version: the common
+// part of the ML API (ml_information_*: ml_information.cc).
 #include <cstring>
 #include <new>
 #include <string>
 
+#include "api/ml_api_internal.h"
 #include "api/ml_handles.h"
+#include "nnstreamer-tizen-internal.h"
+
+// The nnstreamer/api release whose inference API (functions, codes, semantics) this follows.
+#define NNS_ML_API_VERSION_MAJOR 1
+#define NNS_ML_API_VERSION_MINOR 8
+#define NNS_ML_API_VERSION_MICRO 8
 
 namespace nns::api {
 namespace {
@@ -41,9 +49,25 @@ OptionHandle *as_option(ml_option_h h) {
   return p && p->magic == kOptionMagic ? p : nullptr;
 }
 
+bool needs_extended(const TensorsInfo &info) {
+  for (const auto &t : info.tensors)
+    if (t.dims[kRankLimitPrev] > 0) return true;
+  return false;
+}
+
+int new_info_handle(const TensorsInfo &info, ml_tensors_info_h *out) {
+  auto *p = new (std::nothrow) TensorsInfoHandle();
+  if (!p) return report(ML_ERROR_OUT_OF_MEMORY, "out of memory");
+  p->info = info;
+  p->extended = needs_extended(info);
+  *out = p;
+  return ML_ERROR_NONE;
+}
+
 TensorsDataHandle *new_data(const TensorsInfo &info) {
   auto d = std::make_unique<TensorsDataHandle>();
   d->info = info;
+  d->extended = needs_extended(info);
   for (const auto &t : info.tensors) {
     std::size_t n = t.byte_size();
     auto *buf = static_cast<uint8_t *>(std::aligned_alloc(64, round_up(n ? n : 1)));
@@ -81,7 +105,20 @@ using namespace nns::api;
                                                 std::to_string(var->info.size()) + " tensor(s)")
 
 NNS_API const char *ml_error(void) {
-  return t_last_error.c_str();
+  return t_last_error.empty() ? nullptr : t_last_error.c_str();
+}
+
+NNS_API void ml_api_get_version(unsigned int *major, unsigned int *minor, unsigned int *micro) {
+  if (major) *major = NNS_ML_API_VERSION_MAJOR;
+  if (minor) *minor = NNS_ML_API_VERSION_MINOR;
+  if (micro) *micro = NNS_ML_API_VERSION_MICRO;
+}
+
+NNS_API char *ml_api_get_version_string(void) {
+  std::string v = "Machine Learning API " + std::to_string(NNS_ML_API_VERSION_MAJOR) + "." +
+                  std::to_string(NNS_ML_API_VERSION_MINOR) + "." +
+                  std::to_string(NNS_ML_API_VERSION_MICRO);
+  return strdup(v.c_str());
 }
 
 NNS_API const char *ml_strerror(int code) {
@@ -104,8 +141,10 @@ NNS_API const char *ml_strerror(int code) {
       return "out of memory";
     case ML_ERROR_IO_ERROR:
       return "input/output error";
-    default:
+    case ML_ERROR_UNKNOWN:
       return "unknown error";
+    default:
+      return nullptr;
   }
 }
 
@@ -116,9 +155,13 @@ NNS_API int ml_tensors_info_create(ml_tensors_info_h *info) {
 }
 
 NNS_API int ml_tensors_info_create_extended(ml_tensors_info_h *info) {
-  int rc = ml_tensors_info_create(info);
-  if (rc == ML_ERROR_NONE) as_info(*info)->extended = true;
-  return rc;
+  if (!info)
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_create_extended: info is NULL");
+  auto *p = new (std::nothrow) TensorsInfoHandle();
+  if (!p) return report(ML_ERROR_OUT_OF_MEMORY, "ml_tensors_info_create_extended");
+  p->extended = true;
+  *info = p;
+  return ML_ERROR_NONE;
 }
 
 NNS_API int ml_tensors_info_destroy(ml_tensors_info_h info) {
@@ -138,6 +181,10 @@ NNS_API int ml_tensors_info_validate(const ml_tensors_info_h info, bool *valid) 
 NNS_API int ml_tensors_info_clone(ml_tensors_info_h dest, const ml_tensors_info_h src) {
   REQUIRE_INFO(d, dest);
   REQUIRE_INFO(s, src);
+  if (!s->info.valid())
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_clone: src is not valid (" +
+                                                  s->info.to_string() +
+                                                  "); every tensor needs a type and a dimension");
   d->info = s->info;
   d->extended = s->extended;
   return ML_ERROR_NONE;
@@ -205,14 +252,25 @@ NNS_API int ml_tensors_info_set_tensor_dimension(ml_tensors_info_h info, unsigne
                                                  const ml_tensor_dimension dimension) {
   REQUIRE_INFO(p, info);
   REQUIRE_INDEX(p, index);
+  if (!dimension)
+    return report(ML_ERROR_INVALID_PARAMETER,
+                  "ml_tensors_info_set_tensor_dimension: dimension is NULL");
+  // A handle from ml_tensors_info_create reads 4 entries only: applications written for the
+  // old rank limit leave the rest uninitialised.
+  const std::size_t limit = p->extended ? kRankLimit : kRankLimitPrev;
+  if (dimension[0] == 0)
+    return report(ML_ERROR_INVALID_PARAMETER,
+                  "ml_tensors_info_set_tensor_dimension: dimension[0] is 0; a tensor has at "
+                  "least one dimension");
   Dims d{};
   bool ended = false;
-  for (std::size_t i = 0; i < kRankLimit; ++i) {
+  for (std::size_t i = 0; i < limit; ++i) {
     if (dimension[i] == 0)
       ended = true;
     else if (ended)
-      return report(ML_ERROR_INVALID_PARAMETER,
-                    "ml_tensors_info_set_tensor_dimension: dimension has a value after a 0");
+      return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_set_tensor_dimension: dimension[" +
+                                                    std::to_string(i) + "] is " +
+                                                    std::to_string(dimension[i]) + " after a 0");
     d[i] = dimension[i];
   }
   p->info[index].dims = d;
@@ -223,7 +281,12 @@ NNS_API int ml_tensors_info_get_tensor_dimension(ml_tensors_info_h info, unsigne
                                                  ml_tensor_dimension dimension) {
   REQUIRE_INFO(p, info);
   REQUIRE_INDEX(p, index);
-  for (std::size_t i = 0; i < kRankLimit; ++i) dimension[i] = p->info[index].dims[i];
+  if (!dimension)
+    return report(ML_ERROR_INVALID_PARAMETER,
+                  "ml_tensors_info_get_tensor_dimension: dimension is NULL");
+  const std::size_t limit = p->extended ? kRankLimit : kRankLimitPrev;
+  for (std::size_t i = 0; i < kRankLimit; ++i)
+    dimension[i] = i < limit ? p->info[index].dims[i] : 0;
   return ML_ERROR_NONE;
 }
 
@@ -231,6 +294,7 @@ NNS_API int ml_tensors_info_get_tensor_size(ml_tensors_info_h info, int index, s
   REQUIRE_INFO(p, info);
   if (!data_size)
     return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_info_get_tensor_size: data_size is NULL");
+  *data_size = 0;
   if (index < 0) {
     *data_size = p->info.total_bytes();
     return ML_ERROR_NONE;
@@ -301,7 +365,66 @@ NNS_API int ml_tensors_data_get_info(const ml_tensors_data_h data, ml_tensors_in
   auto *h = new (std::nothrow) TensorsInfoHandle();
   if (!h) return report(ML_ERROR_OUT_OF_MEMORY, "ml_tensors_data_get_info");
   h->info = d->info;
+  h->extended = d->extended;
   *info = h;
+  return ML_ERROR_NONE;
+}
+
+NNS_API int ml_tensors_data_clone(const ml_tensors_data_h in, ml_tensors_data_h *out) {
+  TensorsDataHandle *d = as_data(in);
+  if (!d) return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_data_clone: in is NULL or invalid");
+  if (!out) return report(ML_ERROR_INVALID_PARAMETER, "ml_tensors_data_clone: out is NULL");
+  auto c = std::make_unique<TensorsDataHandle>();
+  try {
+    c->info = d->info;
+    c->extended = d->extended;
+    for (std::size_t i = 0; i < d->buffers.size(); ++i) {
+      std::size_t n = d->sizes[i];
+      auto *buf = static_cast<uint8_t *>(std::aligned_alloc(64, round_up(n ? n : 1)));
+      if (!buf) throw std::bad_alloc();
+      c->buffers.emplace_back(buf);
+      std::memcpy(buf, d->buffers[i].get(), n);
+      c->sizes.push_back(n);
+    }
+  } catch (const std::bad_alloc &) {
+    return report(ML_ERROR_OUT_OF_MEMORY, "ml_tensors_data_clone: out of memory");
+  }
+  *out = c.release();
+  return ML_ERROR_NONE;
+}
+
+NNS_API int nns_ml_tensors_data_wrap(const ml_tensors_info_h info, void *const *ptrs,
+                                     unsigned int count, ml_tensors_data_h *data) {
+  REQUIRE_INFO(p, info);
+  if (!data || !ptrs)
+    return report(ML_ERROR_INVALID_PARAMETER, "nns_ml_tensors_data_wrap: NULL argument");
+  if (!p->info.valid() || count != p->info.size())
+    return report(ML_ERROR_INVALID_PARAMETER, "nns_ml_tensors_data_wrap: " + std::to_string(count) +
+                                                  " buffers for the info " + p->info.to_string());
+  try {
+    auto d = std::make_unique<TensorsDataHandle>();
+    d->info = p->info;
+    d->extended = p->extended;
+    for (unsigned i = 0; i < count; ++i) {
+      if (!ptrs[i])
+        return report(ML_ERROR_INVALID_PARAMETER,
+                      "nns_ml_tensors_data_wrap: buffer " + std::to_string(i) + " is NULL");
+      d->buffers.emplace_back(static_cast<uint8_t *>(ptrs[i]), TensorsDataHandle::Free{false});
+      d->sizes.push_back(p->info[i].byte_size());
+    }
+    *data = d.release();
+  } catch (const std::bad_alloc &) {
+    return report(ML_ERROR_OUT_OF_MEMORY, "nns_ml_tensors_data_wrap: out of memory");
+  }
+  return ML_ERROR_NONE;
+}
+
+NNS_API int _ml_tensors_info_compare(const ml_tensors_info_h info1, const ml_tensors_info_h info2,
+                                     bool *equal) {
+  REQUIRE_INFO(a, info1);
+  REQUIRE_INFO(b, info2);
+  if (!equal) return report(ML_ERROR_INVALID_PARAMETER, "_ml_tensors_info_compare: equal is NULL");
+  *equal = a->info.size() == b->info.size() && a->info.same_as(b->info);
   return ML_ERROR_NONE;
 }
 
@@ -322,8 +445,10 @@ NNS_API int ml_option_destroy(ml_option_h option) {
 NNS_API int ml_option_set(ml_option_h option, const char *key, void *value,
                           ml_data_destroy_cb destroy) {
   OptionHandle *o = as_option(option);
-  if (!o || !key || !value)
-    return report(ML_ERROR_INVALID_PARAMETER, "ml_option_set: NULL argument");
+  if (!o) return report(ML_ERROR_INVALID_PARAMETER, "ml_option_set: option is NULL or invalid");
+  if (!key || !*key)
+    return report(ML_ERROR_INVALID_PARAMETER, "ml_option_set: key is NULL or empty");
+  if (!value) return report(ML_ERROR_INVALID_PARAMETER, "ml_option_set: value is NULL");
   auto &e = o->entries[key];
   if (e.destroy && e.value != value) e.destroy(e.value);
   e.value = value;

@@ -4,6 +4,7 @@
 // per-handle worker thread and the caller waits at most that long. Properties:
 // ml_single_props.cc; the handle's internals: ml_single_handle.cc.
 #include <cstring>
+#include <filesystem>
 
 #include "api/ml_single_handle.h"
 #include "core/filter_desc.h"
@@ -118,9 +119,28 @@ int open_common(ml_single_h *single, const char *models, const char *framework,
   if (out) h->spec.output = out->info;
   h->spec.custom = custom ? custom : "";
   h->spec.accelerator = accel ? accel : "";
+  // As NNStreamer: every model path must name a file (or a folder); custom-easy and cpp
+  // models are registered names instead.
+  if (h->spec.framework != "custom-easy" && h->spec.framework != "cpp")
+    for (std::size_t i = 0; i < h->spec.models.size(); ++i) {
+      std::error_code ec;
+      const std::string &m = h->spec.models[i];
+      if (m.empty() || (!std::filesystem::is_regular_file(m, ec) &&
+                        !(i == 0 && std::filesystem::is_directory(m, ec))))
+        return report(ML_ERROR_INVALID_PARAMETER, fn + ": model path [" + std::to_string(i) +
+                                                      "] '" + m +
+                                                      "' is not a file that can be read");
+    }
   try {
     auto conf = current_filter_conf();
-    h->be = FilterRegistry::get().resolve(h->spec.framework, h->spec.models, *conf);
+    try {
+      h->be = FilterRegistry::get().resolve(h->spec.framework, h->spec.models, *conf);
+    } catch (const Error &e) {
+      // No back end for the framework: NNStreamer's "not supported" (no sub-plugin).
+      if (e.kind() == ErrorKind::kNotFound)
+        return report(ML_ERROR_NOT_SUPPORTED, fn + ": " + e.what());
+      throw;
+    }
     h->inst = FilterInstance::open(h->be, h->spec);
     h->apply(settle(*h->inst, in ? &in->info : nullptr, out ? &out->info : nullptr, false));
   } catch (const Error &e) {
@@ -217,14 +237,6 @@ int invoke_dyn(SingleHandle &h, std::unique_lock<std::mutex> &lk, const std::str
   return rc;
 }
 
-int new_info_handle(const TensorsInfo &info, ml_tensors_info_h *out) {
-  auto *p = new (std::nothrow) TensorsInfoHandle();
-  if (!p) return report(ML_ERROR_OUT_OF_MEMORY, "out of memory");
-  p->info = info;
-  *out = p;
-  return ML_ERROR_NONE;
-}
-
 }  // namespace
 
 namespace nns::api {
@@ -244,7 +256,9 @@ int apply_input_info(SingleHandle &h, const TensorsInfo &info, const std::string
       }
       return h.fail(ML_ERROR_NOT_SUPPORTED, fn + ": " + h.inst->describe() +
                                                 " cannot change its input from " +
-                                                h.in.to_string() + " to " + info.to_string());
+                                                h.in.to_string() + " to " + info.to_string() +
+                                                ": the back end runs this model with fixed input "
+                                                "shapes only");
     }
   } catch (const Error &e) {
     return h.fail(ML_ERROR_INVALID_PARAMETER, fn + ": " + e.what());
@@ -252,7 +266,7 @@ int apply_input_info(SingleHandle &h, const TensorsInfo &info, const std::string
   h.in = info;
   h.out = out;
   h.out_from_user = false;
-  h.dynamic = out.size() == 0 && h.inst->backend().invoke_dynamic;
+  h.dynamic = out.size() == 0 && supports_dynamic(*h.inst);
   return ML_ERROR_NONE;
 }
 
@@ -415,7 +429,7 @@ NNS_API int ml_single_invoke_dynamic(ml_single_h single, const ml_tensors_data_h
   int rc;
   try {
     bool same = ii->info.same_as(h->in);
-    if (h->inst->backend().invoke_dynamic && (h->dynamic || !h->declared || !same)) {
+    if (supports_dynamic(*h->inst) && (h->dynamic || !h->declared || !same)) {
       // The back end takes this call's shapes and reports the output's.
       rc = invoke_dyn(*h, lk, fn, *in, ii->info, out);
       if (rc != ML_ERROR_NONE) return rc;

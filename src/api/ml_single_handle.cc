@@ -107,7 +107,7 @@ Settled settle(FilterInstance &inst, const TensorsInfo *in_given, const TensorsI
   Settled s;
   TensorsInfo mi, mo;
   bool known = inst.model_info(mi, mo) && mi.size() > 0;
-  bool can_dynamic = inst.backend().invoke_dynamic != nullptr;
+  bool can_dynamic = supports_dynamic(inst);
   if (known && (model_first || !in_given || in_given->same_as(mi))) {
     s.in = mi;
     s.out = mo;

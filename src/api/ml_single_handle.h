@@ -74,6 +74,11 @@ struct SingleHandle {
 };
 
 SingleHandle *as_single(ml_single_h h);
+// The back end really has a dynamic invoke (C++ back ends all fill the entry; the ones without
+// one throw ENOTSUP from it and do not set NNS_FILTER_FLAG_DYNAMIC).
+inline bool supports_dynamic(const FilterInstance &inst) {
+  return inst.backend().invoke_dynamic && (inst.backend().flags & NNS_FILTER_FLAG_DYNAMIC);
+}
 // ml_error_e for an nns::Error.
 int error_code(const Error &e);
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 #include "gst/filter_engine.h"
 
+#include "profile/invoke_probe.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -438,6 +440,16 @@ void FilterEngine::describe_input(nns_tensors_desc &d, std::size_t nin) const {
   }
 }
 
+void FilterEngine::record_invoke(int64_t dur_ns) {
+  const bool lat = prof_latency_.load(std::memory_order_relaxed);
+  const bool thr = prof_throughput_.load(std::memory_order_relaxed);
+  const bool rep = prof_report_.load(std::memory_order_relaxed);
+  if (lat || thr || rep) stats_.record(dur_ns, lat || rep, thr);
+  if (rep) track_latency();
+  if (nns::profile::invoke_probe_on())
+    nns::profile::note_invoke(GST_ELEMENT_CAST(element_), dur_ns);
+}
+
 void FilterEngine::track_latency() {
   int64_t est = static_cast<int64_t>(stats_.latency_us()) * 1000;
   if (est <= 0) return;
@@ -524,9 +536,12 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
   if (!in_flexible_ && !invoke_dynamic_ && nin != model_in_.size())
     fail(ErrorKind::kStream, where() + ": internal: model input count mismatch");
 
+  // One clock read before and after the invoke feeds both the latency / throughput /
+  // latency-report properties and the nnsprofile tracer (record_invoke).
   const bool profiling = prof_latency_.load(std::memory_order_relaxed) ||
                          prof_throughput_.load(std::memory_order_relaxed) ||
-                         prof_report_.load(std::memory_order_relaxed);
+                         prof_report_.load(std::memory_order_relaxed) ||
+                         nns::profile::invoke_probe_on();
   int64_t t0 = profiling ? now_ns() : 0;
   int rc = 0;
   std::shared_ptr<FilterSession> session;
@@ -547,10 +562,7 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
       ~End() { d->end_input(c, rc); }
     } end{async_.get(), ctx, arc};
     arc = inst_->invoke_async(*dyn_in_, invoke_in_.data(), static_cast<uint32_t>(nin), ctx);
-    if (profiling) {
-      stats_.record(now_ns() - t0, prof_latency_ || prof_report_, prof_throughput_);
-      if (prof_report_) track_latency();
-    }
+    if (profiling) record_invoke(now_ns() - t0);
     return GST_BASE_TRANSFORM_FLOW_DROPPED;
   } else if (invoke_dynamic_) {
     // 3a. invoke-dynamic: describe this frame's input, the back end allocates the output.
@@ -645,10 +657,7 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
     }
   }
 
-  if (profiling) {
-    stats_.record(now_ns() - t0, prof_latency_ || prof_report_, prof_throughput_);
-    if (prof_report_) track_latency();
-  }
+  if (profiling) record_invoke(now_ns() - t0);
   if (rc > 0) return GST_BASE_TRANSFORM_FLOW_DROPPED;  // the back end asked to drop it
 
   // 4. Assemble: passed-through input tensors first (output-combination), then the outputs.

@@ -112,6 +112,8 @@ class FilterEngine {
   void release_outputs(bool free_mems);
   GstMemory *pass_input(std::size_t i);
   void track_latency();
+  // One measured invoke: the statistics of the profiling properties and the nnsprofile tracer.
+  void record_invoke(int64_t dur_ns);
   void describe_input(nns_tensors_desc &d, std::size_t nin) const;
 
   GstBaseTransform *element_;

@@ -332,7 +332,7 @@ TEST_F(Lenet, OpenWithOptionKeys) {
   // "framework" (NNStreamer's other key) wins over "nnfw".
   char fw[] = "no-such-framework";
   ml_option_set(opt, "framework", fw, nullptr);
-  EXPECT_EQ(ml_single_open_with_option(&h, opt), ML_ERROR_INVALID_PARAMETER);
+  EXPECT_EQ(ml_single_open_with_option(&h, opt), ML_ERROR_NOT_SUPPORTED);
   EXPECT_NE(std::string(ml_error()).find("no-such-framework"), std::string::npos) << ml_error();
   ml_option_destroy(opt);
 

@@ -18,6 +18,7 @@ static void use_build_tree_config() {
   setenv("NNSTREAMER_FILTERS", (b + "/subplugins/filters").c_str(), 0);
   setenv("NNSTREAMER_DECODERS", (b + "/subplugins/decoders").c_str(), 0);
   setenv("NNSTREAMER_CONVERTERS", (b + "/subplugins/converters").c_str(), 0);
+  setenv("NNSTREAMER_TRAINERS", (b + "/subplugins/trainers").c_str(), 0);
   setenv("PYTHONPATH", (b + "/python").c_str(), 0);
 }
 

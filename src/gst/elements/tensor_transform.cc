@@ -413,14 +413,17 @@ static gboolean gst_tensor_transform_transform_size(GstBaseTransform *, GstPadDi
   return TRUE;
 }
 
-static GstFlowReturn gst_tensor_transform_prepare_output_buffer(GstBaseTransform *,
+static GstFlowReturn gst_tensor_transform_prepare_output_buffer(GstBaseTransform *trans,
                                                                 GstBuffer *inbuf,
                                                                 GstBuffer **outbuf) {
   *outbuf = gst_buffer_new();
-  gst_buffer_copy_into(
-      *outbuf, inbuf,
-      static_cast<GstBufferCopyFlags>(GST_BUFFER_COPY_FLAGS | GST_BUFFER_COPY_TIMESTAMPS), 0,
-      static_cast<gsize>(-1));
+  // GstBaseTransform's copy_metadata: flags, timestamps and the metas its transform_meta keeps
+  // (those without tags, e.g. tensor_query's GstMetaQuery client id; not GstVideoMeta).
+  if (!GST_BASE_TRANSFORM_GET_CLASS(trans)->copy_metadata(trans, inbuf, *outbuf)) {
+    gst_buffer_unref(*outbuf);
+    *outbuf = nullptr;
+    return GST_FLOW_ERROR;
+  }
   return GST_FLOW_OK;
 }
 

@@ -1,0 +1,335 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+/**
+ * SECTION:element-edgesink
+ *
+ * Publishes a stream of any caps to every edgesrc connected to host:port, with
+ * nnstreamer-edge's TCP protocol (docs/wire-edge-tcp.md). Each subscriber gets the caps
+ * string "@edge_sink_caps@<caps>" when it connects. Without subscribers buffers are dropped,
+ * unless wait-connection=TRUE (then render waits up to connection-timeout ms, 0 = forever).
+ *
+ *   gst-launch-1.0 videotestsrc is-live=true ! video/x-raw,width=64,height=48 ! \
+ *     edgesink port=3000
+ *
+ * Only connect-type=TCP is implemented: HYBRID, MQTT and CUSTOM are accepted as values and
+ * refused at start with an error saying so.
+ */
+#include <gst/base/gstbasesink.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+
+#include "gst/edge_glue.h"
+#include "gst/element_glue.h"
+#include "gst/gst_ptr.h"
+#include "gst/tensor_caps.h"
+
+GST_DEBUG_CATEGORY_STATIC(edgesink_debug);
+#define GST_CAT_DEFAULT edgesink_debug
+
+G_BEGIN_DECLS
+#define GST_TYPE_EDGESINK (gst_edgesink_get_type())
+G_DECLARE_FINAL_TYPE(GstEdgeSink, gst_edgesink, GST, EDGESINK, GstBaseSink)
+G_END_DECLS
+
+namespace {
+
+struct Settings {
+  std::string host = "localhost";
+  guint port = 3000;
+  std::string dest_host = "127.0.0.1";
+  guint dest_port = 1883;
+  gint connect_type = 0;
+  std::string topic, custom_lib;
+  bool topic_set = false, custom_set = false;
+  bool wait_connection = false;
+  guint64 connection_timeout = 0;
+};
+
+struct EdgeSinkPriv {
+  std::mutex lock;
+  Settings s;
+  std::unique_ptr<nns::edge::ServerNode> node;
+  std::string caps;  // "@edge_sink_caps@..." once negotiated
+  bool tensor_caps = false;
+  std::mutex wlock;
+  std::condition_variable wcv;
+  bool unlocked = false;
+  guint64 published = 0, dropped = 0;
+};
+
+enum {
+  PROP_0,
+  PROP_HOST,
+  PROP_PORT,
+  PROP_DEST_HOST,
+  PROP_DEST_PORT,
+  PROP_CONNECT_TYPE,
+  PROP_TOPIC,
+  PROP_WAIT_CONNECTION,
+  PROP_CONNECTION_TIMEOUT,
+  PROP_CUSTOM_LIB,
+};
+
+}  // namespace
+
+struct _GstEdgeSink {
+  GstBaseSink parent;
+  EdgeSinkPriv *priv;
+};
+
+G_DEFINE_TYPE(GstEdgeSink, gst_edgesink, GST_TYPE_BASE_SINK)
+GST_ELEMENT_REGISTER_DEFINE(edgesink, "edgesink", GST_RANK_NONE, GST_TYPE_EDGESINK)
+
+static GstStaticPadTemplate sink_template =
+    GST_STATIC_PAD_TEMPLATE("sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS_ANY);
+
+static void edgesink_set_property(GObject *object, guint id, const GValue *value,
+                                  GParamSpec *pspec) {
+  auto *p = GST_EDGESINK(object)->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  auto str = [&](std::string *dst, bool *set) {
+    const gchar *v = g_value_get_string(value);
+    if (set) *set = v != nullptr;
+    if (v || set) *dst = v ? v : "";
+  };
+  switch (id) {
+    case PROP_HOST:
+      str(&p->s.host, nullptr);
+      break;
+    case PROP_PORT:
+      p->s.port = g_value_get_uint(value);
+      break;
+    case PROP_DEST_HOST:
+      str(&p->s.dest_host, nullptr);
+      break;
+    case PROP_DEST_PORT:
+      p->s.dest_port = g_value_get_uint(value);
+      break;
+    case PROP_CONNECT_TYPE:
+      p->s.connect_type = g_value_get_enum(value);
+      break;
+    case PROP_TOPIC:
+      str(&p->s.topic, &p->s.topic_set);
+      break;
+    case PROP_WAIT_CONNECTION:
+      p->s.wait_connection = g_value_get_boolean(value);
+      break;
+    case PROP_CONNECTION_TIMEOUT:
+      p->s.connection_timeout = g_value_get_uint64(value);
+      break;
+    case PROP_CUSTOM_LIB:
+      str(&p->s.custom_lib, &p->s.custom_set);
+      break;
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static void edgesink_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
+  auto *p = GST_EDGESINK(object)->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  switch (id) {
+    case PROP_HOST:
+      g_value_set_string(value, p->s.host.c_str());
+      break;
+    case PROP_PORT:
+      g_value_set_uint(value, p->s.port);
+      break;
+    case PROP_DEST_HOST:
+      g_value_set_string(value, p->s.dest_host.c_str());
+      break;
+    case PROP_DEST_PORT:
+      g_value_set_uint(value, p->s.dest_port);
+      break;
+    case PROP_CONNECT_TYPE:
+      g_value_set_enum(value, p->s.connect_type);
+      break;
+    case PROP_TOPIC:
+      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
+      break;
+    case PROP_WAIT_CONNECTION:
+      g_value_set_boolean(value, p->s.wait_connection);
+      break;
+    case PROP_CONNECTION_TIMEOUT:
+      g_value_set_uint64(value, p->s.connection_timeout);
+      break;
+    case PROP_CUSTOM_LIB:
+      g_value_set_string(value, p->s.custom_set ? p->s.custom_lib.c_str() : nullptr);
+      break;
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static gboolean edgesink_start(GstBaseSink *bsink) {
+  return nns::gst::guard(bsink, FALSE, [&]() -> gboolean {
+    auto *self = GST_EDGESINK(bsink);
+    auto *p = self->priv;
+    Settings s;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      s = p->s;
+      p->caps.clear();
+    }
+    nns::gst::require_tcp(s.connect_type);
+    nns::edge::NodeOptions o;
+    o.role = nns::edge::Role::kPublisher;
+    o.host = s.host;
+    o.port = static_cast<uint16_t>(s.port);
+    nns::edge::NodeCallbacks cb;
+    cb.caps = [p]() {
+      std::lock_guard<std::mutex> l(p->lock);
+      return p->caps;
+    };
+    cb.on_connected = [self, p](int64_t id, const std::string &peer) {
+      GST_INFO_OBJECT(self, "subscriber %s connected, id %" G_GINT64_FORMAT, peer.c_str(), id);
+      std::lock_guard<std::mutex> l(p->wlock);
+      p->wcv.notify_all();
+    };
+    cb.on_warning = [self](const std::string &w) { NNS_POST_WARNING(self, w); };
+    p->node = nns::edge::make_server(static_cast<nns::edge::ConnectType>(s.connect_type), o,
+                                     std::move(cb));
+    p->node->start();
+    p->published = p->dropped = 0;
+    return TRUE;
+  });
+}
+
+static gboolean edgesink_stop(GstBaseSink *bsink) {
+  auto *p = GST_EDGESINK(bsink)->priv;
+  if (p->node) p->node->stop();
+  p->node.reset();
+  return TRUE;
+}
+
+static gboolean edgesink_unlock(GstBaseSink *bsink) {
+  auto *p = GST_EDGESINK(bsink)->priv;
+  std::lock_guard<std::mutex> l(p->wlock);
+  p->unlocked = true;
+  p->wcv.notify_all();
+  return TRUE;
+}
+
+static gboolean edgesink_unlock_stop(GstBaseSink *bsink) {
+  auto *p = GST_EDGESINK(bsink)->priv;
+  std::lock_guard<std::mutex> l(p->wlock);
+  p->unlocked = false;
+  return TRUE;
+}
+
+static gboolean edgesink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
+  auto *p = GST_EDGESINK(bsink)->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  p->caps = "@edge_sink_caps@" + nns::gst::caps_to_string(caps);
+  p->tensor_caps = nns::gst::is_tensor_caps(caps);
+  return TRUE;
+}
+
+static GstFlowReturn edgesink_render(GstBaseSink *bsink, GstBuffer *buf) {
+  return nns::gst::guard(bsink, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
+    auto *p = GST_EDGESINK(bsink)->priv;
+    bool wait;
+    guint64 timeout_ms;
+    bool tensor;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      wait = p->s.wait_connection;
+      timeout_ms = p->s.connection_timeout;
+      tensor = p->tensor_caps;
+    }
+    if (wait && p->node->client_count() == 0) {
+      std::unique_lock<std::mutex> l(p->wlock);
+      auto ready = [&] { return p->unlocked || p->node->client_count() > 0; };
+      if (timeout_ms == 0) {
+        p->wcv.wait(l, ready);
+      } else if (!p->wcv.wait_for(l, std::chrono::milliseconds(timeout_ms), ready)) {
+        nns::fail(nns::ErrorKind::kNotFound,
+                  "no edgesrc connected within connection-timeout=" + std::to_string(timeout_ms) +
+                      " ms (wait-connection=TRUE)");
+      }
+      if (p->unlocked) return GST_FLOW_FLUSHING;
+    }
+    nns::gst::FrameView view(buf, tensor);
+    if (p->node->broadcast(view.frame()) > 0)
+      ++p->published;
+    else
+      ++p->dropped;
+    return GST_FLOW_OK;
+  });
+}
+
+static void edgesink_finalize(GObject *object) {
+  auto *self = GST_EDGESINK(object);
+  delete self->priv;
+  G_OBJECT_CLASS(gst_edgesink_parent_class)->finalize(object);
+}
+
+static void gst_edgesink_class_init(GstEdgeSinkClass *klass) {
+  auto *gobject = G_OBJECT_CLASS(klass);
+  auto *element = GST_ELEMENT_CLASS(klass);
+  auto *basesink = GST_BASE_SINK_CLASS(klass);
+  gobject->set_property = edgesink_set_property;
+  gobject->get_property = edgesink_get_property;
+  gobject->finalize = edgesink_finalize;
+  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
+  g_object_class_install_property(
+      gobject, PROP_HOST,
+      g_param_spec_string("host", "Host", "A self host address to accept connection from edgesrc",
+                          "localhost", rw));
+  g_object_class_install_property(
+      gobject, PROP_PORT,
+      g_param_spec_uint("port", "Port",
+                        "A self port address to accept connection from edgesrc. If the port is "
+                        "set to 0 then the available port is allocated. ",
+                        0, 65535, 3000, rw));
+  g_object_class_install_property(
+      gobject, PROP_CONNECT_TYPE,
+      g_param_spec_enum("connect-type", "Connect Type",
+                        "The connections type between edgesink and edgesrc.",
+                        nns::gst::edge_connect_type_get_type(), 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_DEST_HOST,
+      g_param_spec_string("dest-host", "Destination Host", "The destination hostname of the broker",
+                          "127.0.0.1", rw));
+  g_object_class_install_property(
+      gobject, PROP_DEST_PORT,
+      g_param_spec_uint("dest-port", "Destination Port", "The destination port of the broker", 0,
+                        65535, 1883, rw));
+  g_object_class_install_property(
+      gobject, PROP_TOPIC,
+      g_param_spec_string("topic", "Topic",
+                          "The main topic of the host and option if necessary. "
+                          "(topic)/(optional topic for main topic).",
+                          nullptr, rw));
+  g_object_class_install_property(
+      gobject, PROP_WAIT_CONNECTION,
+      g_param_spec_boolean("wait-connection", "Wait connection to edgesrc",
+                           "Wait connection to edgesrc. If FALSE, buffers are dropped until a "
+                           "subscriber connects.",
+                           FALSE, rw));
+  g_object_class_install_property(
+      gobject, PROP_CONNECTION_TIMEOUT,
+      g_param_spec_uint64("connection-timeout", "Timeout for wait a connection",
+                          "The timeout (in milliseconds) for waiting a connection to receiver. 0 "
+                          "timeout (default) means infinite wait.",
+                          0, G_MAXUINT64, 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_CUSTOM_LIB,
+      g_param_spec_string("custom-lib", "Custom connection lib path",
+                          "User defined custom connection lib path.", nullptr, rw));
+  gst_element_class_add_static_pad_template(element, &sink_template);
+  gst_element_class_set_static_metadata(element, "EdgeSink", "Sink/Edge",
+                                        "Publish incoming streams", "nnstreamer-cpp");
+  basesink->start = edgesink_start;
+  basesink->stop = edgesink_stop;
+  basesink->unlock = edgesink_unlock;
+  basesink->unlock_stop = edgesink_unlock_stop;
+  basesink->set_caps = edgesink_set_caps;
+  basesink->render = edgesink_render;
+  GST_DEBUG_CATEGORY_INIT(edgesink_debug, "edgesink", 0, "Edge sink");
+}
+
+static void gst_edgesink_init(GstEdgeSink *self) {
+  self->priv = new EdgeSinkPriv();
+}

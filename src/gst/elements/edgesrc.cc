@@ -1,0 +1,328 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+/**
+ * SECTION:element-edgesrc
+ *
+ * Subscribes to an edgesink at dest-host:dest-port (nnstreamer-edge's TCP protocol) and
+ * pushes what it publishes. The output caps are the publisher's ("@edge_sink_caps@<caps>"
+ * in its capability) unless downstream fixes them.
+ *
+ *   gst-launch-1.0 edgesrc dest-host=127.0.0.1 dest-port=3000 ! videoconvert ! autovideosink
+ *
+ * When the publisher ends its stream (it stops and says goodbye) edgesrc sends EOS; when the
+ * connection breaks or the publisher sends garbage, an error names it and what was wrong.
+ * Only connect-type=TCP is implemented: HYBRID, MQTT and CUSTOM are refused at start.
+ */
+#include <gst/base/gstpushsrc.h>
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+
+#include "gst/edge_glue.h"
+#include "gst/element_glue.h"
+#include "gst/gst_ptr.h"
+#include "gst/tensor_caps.h"
+
+GST_DEBUG_CATEGORY_STATIC(edgesrc_debug);
+#define GST_CAT_DEFAULT edgesrc_debug
+
+G_BEGIN_DECLS
+#define GST_TYPE_EDGESRC (gst_edgesrc_get_type())
+G_DECLARE_FINAL_TYPE(GstEdgeSrc, gst_edgesrc, GST, EDGESRC, GstPushSrc)
+G_END_DECLS
+
+namespace {
+
+struct Settings {
+  std::string dest_host = "localhost";
+  guint dest_port = 3000;
+  gint connect_type = 0;
+  std::string topic, custom_lib, host;
+  bool topic_set = false, custom_set = false, host_set = false;
+  guint port = 0;
+};
+
+struct EdgeSrcPriv {
+  std::mutex lock;
+  Settings s;
+  std::unique_ptr<nns::edge::ClientNode> node;
+  std::string publisher_caps;  // edge_sink_caps of the publisher, if it announced them
+  std::mutex qlock;
+  std::condition_variable qcv;
+  std::deque<nns::edge::Message> queue;
+  bool flushing = false, closed = false, clean = false;
+  std::string closed_why;
+};
+
+enum {
+  PROP_0,
+  PROP_HOST,
+  PROP_PORT,
+  PROP_DEST_HOST,
+  PROP_DEST_PORT,
+  PROP_CONNECT_TYPE,
+  PROP_TOPIC,
+  PROP_CUSTOM_LIB,
+};
+
+}  // namespace
+
+struct _GstEdgeSrc {
+  GstPushSrc parent;
+  EdgeSrcPriv *priv;
+};
+
+G_DEFINE_TYPE(GstEdgeSrc, gst_edgesrc, GST_TYPE_PUSH_SRC)
+GST_ELEMENT_REGISTER_DEFINE(edgesrc, "edgesrc", GST_RANK_NONE, GST_TYPE_EDGESRC)
+
+static GstStaticPadTemplate src_template =
+    GST_STATIC_PAD_TEMPLATE("src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS_ANY);
+
+static void edgesrc_set_property(GObject *object, guint id, const GValue *value,
+                                 GParamSpec *pspec) {
+  auto *p = GST_EDGESRC(object)->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  const auto str = [&](std::string *dst, bool *set) {
+    const gchar *v = g_value_get_string(value);
+    if (set) *set = v != nullptr;
+    if (v || set) *dst = v ? v : "";
+  };
+  switch (id) {
+    case PROP_HOST:
+      str(&p->s.host, &p->s.host_set);
+      break;
+    case PROP_PORT:
+      p->s.port = g_value_get_uint(value);
+      break;
+    case PROP_DEST_HOST:
+      str(&p->s.dest_host, nullptr);
+      break;
+    case PROP_DEST_PORT:
+      p->s.dest_port = g_value_get_uint(value);
+      break;
+    case PROP_CONNECT_TYPE:
+      p->s.connect_type = g_value_get_enum(value);
+      break;
+    case PROP_TOPIC:
+      str(&p->s.topic, &p->s.topic_set);
+      break;
+    case PROP_CUSTOM_LIB:
+      str(&p->s.custom_lib, &p->s.custom_set);
+      break;
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static void edgesrc_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
+  auto *p = GST_EDGESRC(object)->priv;
+  std::lock_guard<std::mutex> l(p->lock);
+  switch (id) {
+    case PROP_HOST:
+      g_value_set_string(value, p->s.host_set ? p->s.host.c_str() : nullptr);
+      break;
+    case PROP_PORT:
+      g_value_set_uint(value, p->s.port);
+      break;
+    case PROP_DEST_HOST:
+      g_value_set_string(value, p->s.dest_host.c_str());
+      break;
+    case PROP_DEST_PORT:
+      g_value_set_uint(value, p->s.dest_port);
+      break;
+    case PROP_CONNECT_TYPE:
+      g_value_set_enum(value, p->s.connect_type);
+      break;
+    case PROP_TOPIC:
+      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
+      break;
+    case PROP_CUSTOM_LIB:
+      g_value_set_string(value, p->s.custom_set ? p->s.custom_lib.c_str() : nullptr);
+      break;
+    default:
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  }
+}
+
+static gboolean edgesrc_start(GstBaseSrc *bsrc) {
+  return nns::gst::guard(bsrc, FALSE, [&]() -> gboolean {
+    auto *p = GST_EDGESRC(bsrc)->priv;
+    Settings s;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      s = p->s;
+    }
+    nns::gst::require_tcp(s.connect_type);
+    {
+      std::lock_guard<std::mutex> l(p->qlock);
+      p->queue.clear();
+      p->flushing = p->closed = p->clean = false;
+    }
+    nns::edge::NodeOptions o;
+    o.role = nns::edge::Role::kSubscriber;
+    o.dest_host = s.dest_host;
+    o.dest_port = static_cast<uint16_t>(s.dest_port);
+    nns::edge::NodeCallbacks cb;
+    cb.alloc = nns::gst::gst_memory_allocator();
+    cb.on_data = [p](nns::edge::Message &&m) {
+      std::lock_guard<std::mutex> l(p->qlock);
+      p->queue.push_back(std::move(m));
+      p->qcv.notify_all();
+    };
+    cb.on_closed = [p](const std::string &why, nns::edge::CloseKind kind) {
+      std::lock_guard<std::mutex> l(p->qlock);
+      p->closed = true;
+      p->clean = kind == nns::edge::CloseKind::kGoodbye;
+      p->closed_why = why;
+      p->qcv.notify_all();
+    };
+    p->node = nns::edge::make_client(static_cast<nns::edge::ConnectType>(s.connect_type), o,
+                                     std::move(cb));
+    try {
+      p->node->connect();
+    } catch (const nns::Error &e) {
+      nns::fail(nns::ErrorKind::kNotFound,
+                std::string("cannot subscribe to the edgesink: ") + e.what());
+    }
+    const auto caps = nns::edge::caps_field(p->node->server_caps(), "edge_sink_caps");
+    std::lock_guard<std::mutex> l(p->lock);
+    p->publisher_caps = caps ? *caps : std::string();
+    return TRUE;
+  });
+}
+
+static gboolean edgesrc_stop(GstBaseSrc *bsrc) {
+  auto *p = GST_EDGESRC(bsrc)->priv;
+  p->node.reset();
+  std::lock_guard<std::mutex> l(p->qlock);
+  p->queue.clear();
+  return TRUE;
+}
+
+static GstCaps *edgesrc_get_caps(GstBaseSrc *bsrc, GstCaps *filter) {
+  auto *p = GST_EDGESRC(bsrc)->priv;
+  GstCaps *caps = nullptr;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    if (!p->publisher_caps.empty()) caps = gst_caps_from_string(p->publisher_caps.c_str());
+  }
+  if (!caps) caps = gst_pad_get_pad_template_caps(GST_BASE_SRC_PAD(bsrc));
+  if (filter) {
+    GstCaps *i = gst_caps_intersect_full(filter, caps, GST_CAPS_INTERSECT_FIRST);
+    gst_caps_unref(caps);
+    caps = i;
+  }
+  return caps;
+}
+
+static gboolean edgesrc_unlock(GstBaseSrc *bsrc) {
+  auto *p = GST_EDGESRC(bsrc)->priv;
+  std::lock_guard<std::mutex> l(p->qlock);
+  p->flushing = true;
+  p->qcv.notify_all();
+  return TRUE;
+}
+
+static gboolean edgesrc_unlock_stop(GstBaseSrc *bsrc) {
+  auto *p = GST_EDGESRC(bsrc)->priv;
+  std::lock_guard<std::mutex> l(p->qlock);
+  p->flushing = false;
+  return TRUE;
+}
+
+static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
+  return nns::gst::guard(psrc, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
+    auto *p = GST_EDGESRC(psrc)->priv;
+    nns::edge::Message m;
+    {
+      std::unique_lock<std::mutex> l(p->qlock);
+      p->qcv.wait(l, [&] { return p->flushing || p->closed || !p->queue.empty(); });
+      if (p->flushing) return GST_FLOW_FLUSHING;
+      if (p->queue.empty()) {  // closed
+        if (p->clean) return GST_FLOW_EOS;
+        nns::fail(nns::ErrorKind::kStream, "subscription ended: " + p->closed_why);
+      }
+      m = std::move(p->queue.front());
+      p->queue.pop_front();
+    }
+    nns::TensorsConfig cfg;
+    const nns::TensorsConfig *cfgp = nullptr;
+    // The tensor config only matters for packing more than 16 memories (not per frame else).
+    nns::gst::CapsPtr caps(m.mems.size() > gst_buffer_get_max_memory()
+                               ? gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc))
+                               : nullptr);
+    if (caps && nns::gst::is_tensor_caps(caps.get())) {
+      cfg = nns::gst::config_from_caps(caps.get());
+      cfgp = &cfg;
+    }
+    *out = nns::gst::buffer_from_message(std::move(m), cfgp);
+    return GST_FLOW_OK;
+  });
+}
+
+static void edgesrc_finalize(GObject *object) {
+  auto *self = GST_EDGESRC(object);
+  delete self->priv;
+  G_OBJECT_CLASS(gst_edgesrc_parent_class)->finalize(object);
+}
+
+static void gst_edgesrc_class_init(GstEdgeSrcClass *klass) {
+  auto *gobject = G_OBJECT_CLASS(klass);
+  auto *element = GST_ELEMENT_CLASS(klass);
+  auto *basesrc = GST_BASE_SRC_CLASS(klass);
+  auto *pushsrc = GST_PUSH_SRC_CLASS(klass);
+  gobject->set_property = edgesrc_set_property;
+  gobject->get_property = edgesrc_get_property;
+  gobject->finalize = edgesrc_finalize;
+  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
+  const auto deprecated = static_cast<GParamFlags>(rw | G_PARAM_DEPRECATED);
+  g_object_class_install_property(
+      gobject, PROP_HOST,
+      g_param_spec_string("host", "Host", "A self host address (DEPRECATED, has no effect).",
+                          nullptr, deprecated));
+  g_object_class_install_property(
+      gobject, PROP_PORT,
+      g_param_spec_uint("port", "Port", "A self port number (DEPRECATED, has no effect).", 0, 65535,
+                        0, deprecated));
+  g_object_class_install_property(
+      gobject, PROP_DEST_HOST,
+      g_param_spec_string("dest-host", "Destination Host",
+                          "A host address of edgesink to receive the packets from edgesink",
+                          "localhost", rw));
+  g_object_class_install_property(
+      gobject, PROP_DEST_PORT,
+      g_param_spec_uint("dest-port", "Destination Port",
+                        "A port of edgesink to receive the packets from edgesink", 0, 65535, 3000,
+                        rw));
+  g_object_class_install_property(
+      gobject, PROP_CONNECT_TYPE,
+      g_param_spec_enum("connect-type", "Connect Type",
+                        "The connections type between edgesink and edgesrc.",
+                        nns::gst::edge_connect_type_get_type(), 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_TOPIC,
+      g_param_spec_string("topic", "Topic",
+                          "The main topic of the host and option if necessary. "
+                          "(topic)/(optional topic for main topic).",
+                          nullptr, rw));
+  g_object_class_install_property(
+      gobject, PROP_CUSTOM_LIB,
+      g_param_spec_string("custom-lib", "Custom connection lib path",
+                          "User defined custom connection lib path.", nullptr, rw));
+  gst_element_class_add_static_pad_template(element, &src_template);
+  gst_element_class_set_static_metadata(element, "EdgeSrc", "Source/Edge",
+                                        "Subscribe and push incoming streams", "nnstreamer-cpp");
+  basesrc->start = edgesrc_start;
+  basesrc->stop = edgesrc_stop;
+  basesrc->get_caps = edgesrc_get_caps;
+  basesrc->unlock = edgesrc_unlock;
+  basesrc->unlock_stop = edgesrc_unlock_stop;
+  pushsrc->create = edgesrc_create;
+  GST_DEBUG_CATEGORY_INIT(edgesrc_debug, "edgesrc", 0, "Edge source");
+}
+
+static void gst_edgesrc_init(GstEdgeSrc *self) {
+  self->priv = new EdgeSrcPriv();
+  gst_base_src_set_format(GST_BASE_SRC(self), GST_FORMAT_TIME);
+  gst_base_src_set_live(GST_BASE_SRC(self), TRUE);
+}
