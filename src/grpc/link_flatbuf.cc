@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // Link over NNStreamer's TensorService with idl=flatbuf (src/grpc/nnstreamer_fb.fbs, flatc
 // --grpc). Every received message goes through the flatbuffers verifier before it is read.
+#include <cstring>
+
 #include "grpc/link_core.h"
 #include "nnstreamer_fb.grpc.fb.h"
 #include "nnstreamer_fb_generated.h"
@@ -38,8 +40,20 @@ EmptyMsg empty() {
 
 // Verifies and reads one message; "" or the problem. `n` gets num_tensor.
 std::string from_fb(TensorsMsg &msg, Frame &f, uint32_t &n) {
-  if (!msg.Verify()) return "the message is not a valid flatbuffers Tensors table";
-  const fb::Tensors *m = msg.GetRoot();
+  // gRPC hands the bytes over at any address; flatbuffers reads 4- and 8-byte fields in place,
+  // so a misaligned message is first copied to an aligned buffer.
+  const uint8_t *data = msg.data();
+  const std::size_t size = msg.size();
+  std::vector<uint64_t> aligned;
+  if (reinterpret_cast<uintptr_t>(data) % alignof(uint64_t) != 0) {
+    aligned.resize((size + sizeof(uint64_t) - 1) / sizeof(uint64_t));
+    std::memcpy(aligned.data(), data, size);
+    data = reinterpret_cast<const uint8_t *>(aligned.data());
+  }
+  flatbuffers::Verifier v(data, size);
+  if (!data || !v.VerifyBuffer<fb::Tensors>(nullptr))
+    return "the message is not a valid flatbuffers Tensors table";
+  const fb::Tensors *m = flatbuffers::GetRoot<fb::Tensors>(data);
   n = m->num_tensor() < 0 ? 0xFFFFFFFFu : static_cast<uint32_t>(m->num_tensor());
   if (m->fr()) {
     f.rate_n = m->fr()->rate_n();
