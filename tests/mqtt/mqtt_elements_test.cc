@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gst/gst_ptr.h"
+#include "../edge/edge_test_util.h"
 #include "mosquitto_broker.h"
 #include "mqtt/mqtt_client.h"
 #include "mqtt/mqtt_message.h"
@@ -611,4 +612,56 @@ TEST(MqttElements, NtpSyncUsesTheServersTime) {
   EXPECT_NEAR(static_cast<double>(h.sent_time_epoch - now), 100e9, 1e9);
   EXPECT_NEAR(static_cast<double>(h.base_time_epoch - now), 100e9, 2e9);
   EXPECT_EQ(tx.warnings(), "");
+}
+
+// Child side of the multi-process test: runs NNS_EDGE_CHILD until EOS or error.
+TEST(EdgeChild, Run) {
+  const char *desc = std::getenv("NNS_EDGE_CHILD");
+  if (!desc) GTEST_SKIP() << "only runs as the helper process of the multi-process test";
+  GError *err = nullptr;
+  GstElement *p = gst_parse_launch(desc, &err);
+  ASSERT_TRUE(p) << (err ? err->message : "");
+  gst_element_set_state(p, GST_STATE_PLAYING);
+  GstBus *bus = gst_element_get_bus(p);
+  GstMessage *m = gst_bus_timed_pop_filtered(
+      bus, 30 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  if (m) gst_message_unref(m);
+  gst_object_unref(bus);
+  gst_element_set_state(p, GST_STATE_NULL);
+  gst_object_unref(p);
+}
+
+// The publisher in another process (videotestsrc ! mqttsink): the frames arrive byte for byte
+// as the same videotestsrc makes them here, with its caps and 1/30 s spacing.
+TEST(MqttElements, PublisherInAnotherProcess) {
+  Broker b;
+  MQTT_REQUIRE_BROKER(b);
+  const std::string topic = unique_topic();
+  const std::string video =
+      "videotestsrc num-buffers=5 ! video/x-raw,format=GRAY8,width=8,height=4,framerate=30/1";
+  Pipe rx(src_desc(b, topic, "is-live=false"));
+  rx.play();
+  ASSERT_TRUE(rx.wait_playing("src"));
+  edge_test::Child pub(
+      video + " ! mqttsink mqtt-qos=1 host=127.0.0.1 port=" + b.port_str() + " pub-topic=" + topic,
+      "mqtt_pub");
+  Pipe local(video + " ! appsink name=out sync=false");
+  local.play();
+  GstClockTime first = 0;
+  for (int i = 0; i < 5; ++i) {
+    GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(rx.get("out")), 10 * GST_SECOND);
+    ASSERT_NE(s, nullptr) << "frame " << i << ": " << rx.errors() << pub.log();
+    GstSample *w = gst_app_sink_try_pull_sample(GST_APP_SINK(local.get("out")), 5 * GST_SECOND);
+    ASSERT_NE(w, nullptr);
+    EXPECT_EQ(bytes_of(gst_sample_get_buffer(s)), bytes_of(gst_sample_get_buffer(w)));
+    EXPECT_TRUE(gst_caps_is_equal(gst_sample_get_caps(s), gst_sample_get_caps(w)));
+    const GstClockTime pts = GST_BUFFER_PTS(gst_sample_get_buffer(s));
+    if (i == 0)
+      first = pts;
+    else
+      EXPECT_EQ(pts - first, gst_util_uint64_scale(i, GST_SECOND, 30));
+    gst_sample_unref(s);
+    gst_sample_unref(w);
+  }
+  EXPECT_EQ(pub.wait_exit(), 0) << pub.log();
 }
