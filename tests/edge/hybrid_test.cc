@@ -157,3 +157,33 @@ TEST(Hybrid, NoServerOnTheTopicIsNamed) {
       std::string::npos)
       << errors;
 }
+
+// edgesink / edgesrc with HYBRID: the subscriber (another process) finds the publisher through
+// the broker and gets its stream byte for byte.
+TEST(Hybrid, EdgesrcFindsEdgesinkThroughTheBroker) {
+  mqtt_test::Broker b;
+  MQTT_REQUIRE_BROKER(b);
+  const std::string topic = "pub" + std::to_string(getpid());
+  const uint16_t port = free_port();
+  const std::string out =
+      std::string(::testing::TempDir()) + "hybrid_edgesrc_" + std::to_string(getpid()) + ".bin";
+  AppPipeline pub("edgesink connect-type=HYBRID host=127.0.0.1 port=" + std::to_string(port) +
+                      " dest-host=127.0.0.1 dest-port=" + b.port_str() + " topic=" + topic +
+                      " wait-connection=true connection-timeout=10000 sync=false",
+                  "application/octet-stream", true);
+  pub.play();
+  ASSERT_EQ(announcements(b, topic, 1).size(), 1u) << joined(pub.messages(GST_MESSAGE_ERROR));
+  Child sub("edgesrc connect-type=HYBRID dest-host=127.0.0.1 dest-port=" + b.port_str() +
+                " topic=" + topic + " num-buffers=10 ! filesink location=" + out,
+            "hyb_sub");
+  std::string want;
+  for (int n = 0; n < 10; ++n) {
+    std::vector<uint8_t> p(50 + n, static_cast<uint8_t>(n * 7));
+    want.append(reinterpret_cast<const char *>(p.data()), p.size());
+    ASSERT_EQ(pub.push(p, n * GST_MSECOND), GST_FLOW_OK);
+    std::this_thread::sleep_for(5ms);
+  }
+  ASSERT_EQ(sub.wait_exit(), 0) << sub.log();
+  EXPECT_EQ(slurp(out), want) << sub.log();
+  std::remove(out.c_str());
+}
