@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/meta_header.h"
+#include "mqtt/mqtt_message.h"
 #include "edge/edge_wire.h"
 #include "wire.h"
 
@@ -113,6 +114,22 @@ int main(int argc, char **argv) {
       nns::write_meta_header(h, buf);
       save(dir, n++, buf, sizeof buf);
     }
+  }
+  const fs::path mdir = root / "mqtt_message";
+  fs::create_directories(mdir);
+  n = 0;
+  for (std::size_t mems = 0; mems <= nns::mqtt::kMaxMems; mems += 3) {
+    nns::mqtt::MessageHeader h;
+    for (std::size_t k = 0; k < mems; ++k) h.mem_sizes.push_back(k * 5 + 1);
+    h.base_time_epoch = 1700000000000000000LL;
+    h.sent_time_epoch = h.base_time_epoch + static_cast<int64_t>(mems) * 1000;
+    h.pts = mems * 33333333ULL;
+    h.duration = 33333333ULL;
+    h.caps = mems % 2 ? "other/tensors,format=static,num_tensors=1,dimensions=4,types=uint8"
+                      : "video/x-raw,format=RGB,width=4,height=2";
+    std::vector<uint8_t> m(nns::mqtt::kHeaderSize + h.payload_size(), 0x42);
+    nns::mqtt::write_header(h, m.data());
+    save(mdir, n++, m.data(), m.size());
   }
   const fs::path iio = root / "iio_channel";
   fs::create_directories(iio);

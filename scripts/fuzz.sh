@@ -17,7 +17,7 @@ TOTAL=${NNS_FUZZ_SECONDS:-180}
 JOBS=${NNS_JOBS:-2}
 CLANG=${CXX:-clang++}
 [[ $CLANG == *clang++* ]] || CLANG=clang++
-ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame)
+ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame mqtt_message)
 TARGETS=("${@:-${ALL[@]}}")
 [[ $# -gt 0 ]] || TARGETS=("${ALL[@]}")
 

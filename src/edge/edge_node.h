@@ -2,8 +2,8 @@
 // The transport interface of the among-device elements. A ServerNode is the query server or
 // the publisher (edgesink); a ClientNode is the query client or the subscriber (edgesrc).
 // make_server()/make_client() pick the implementation for a connect type: TCP lives in
-// edge_tcp.cc; MQTT and HYBRID are meant to be added as their own files behind the same
-// interface (until then the factories throw a "not supported yet" nns::Error).
+// edge_tcp.cc, HYBRID (MQTT discovery + TCP) in edge_hybrid.cc; MQTT and CUSTOM are not there
+// yet (the factories throw a "not supported yet" nns::Error).
 #pragma once
 
 #include <cstdint>
@@ -84,6 +84,10 @@ std::unique_ptr<ServerNode> make_server(ConnectType type, const NodeOptions &opt
                                         NodeCallbacks cb);
 std::unique_ptr<ClientNode> make_client(ConnectType type, const NodeOptions &opts,
                                         NodeCallbacks cb);
+
+// HYBRID implementations (edge_hybrid.cc): MQTT discovery at dest-host:dest-port, TCP data.
+std::unique_ptr<ServerNode> make_hybrid_server(const NodeOptions &opts, NodeCallbacks cb);
+std::unique_ptr<ClientNode> make_hybrid_client(const NodeOptions &opts, NodeCallbacks cb);
 
 // TCP implementations (edge_tcp.cc).
 std::unique_ptr<ServerNode> make_tcp_server(const NodeOptions &opts, NodeCallbacks cb);

@@ -425,15 +425,17 @@ std::unique_ptr<ClientNode> make_tcp_client(const NodeOptions &opts, NodeCallbac
 std::unique_ptr<ServerNode> make_server(ConnectType type, const NodeOptions &opts,
                                         NodeCallbacks cb) {
   if (type == ConnectType::kTcp) return make_tcp_server(opts, std::move(cb));
+  if (type == ConnectType::kHybrid) return make_hybrid_server(opts, std::move(cb));
   fail(ErrorKind::kSettings, std::string("connect-type ") + connect_type_name(type) +
-                                 " is not supported yet (only TCP is implemented)");
+                                 " is not supported yet (TCP and HYBRID are implemented)");
 }
 
 std::unique_ptr<ClientNode> make_client(ConnectType type, const NodeOptions &opts,
                                         NodeCallbacks cb) {
   if (type == ConnectType::kTcp) return make_tcp_client(opts, std::move(cb));
+  if (type == ConnectType::kHybrid) return make_hybrid_client(opts, std::move(cb));
   fail(ErrorKind::kSettings, std::string("connect-type ") + connect_type_name(type) +
-                                 " is not supported yet (only TCP is implemented)");
+                                 " is not supported yet (TCP and HYBRID are implemented)");
 }
 
 }  // namespace nns::edge

@@ -83,11 +83,11 @@ GType edge_connect_type_get_type() {
 }
 
 void require_tcp(int connect_type) {
-  if (connect_type == 0) return;
+  if (connect_type == 0 || connect_type == 2) return;  // TCP, HYBRID
   fail(ErrorKind::kSettings,
        std::string("connect-type ") +
            edge::connect_type_name(static_cast<edge::ConnectType>(connect_type)) +
-           " is not supported yet (only TCP is implemented in this build)");
+           " is not supported yet (TCP and HYBRID are implemented in this build)");
 }
 
 FrameView::FrameView(GstBuffer *buf, bool tensor_caps) {

@@ -37,7 +37,7 @@ GstMetaQuery *buffer_get_meta_query(GstBuffer *buf);
 // HYBRID=2, CUSTOM=3), nnstreamer-edge's nns_edge_connect_type_e values.
 GType query_connect_type_get_type();
 GType edge_connect_type_get_type();
-// Throws nns::Error(kSettings) "<element>: connect-type X is not supported yet ..." unless TCP.
+// Throws nns::Error(kSettings) "connect-type X is not supported yet ..." unless TCP or HYBRID.
 void require_tcp(int connect_type);
 
 // The memories of a buffer, mapped for reading, as an OutFrame (no copy). Tensor caps send

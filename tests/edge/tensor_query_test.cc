@@ -318,11 +318,21 @@ TEST(TensorQuery, NoServerIsAnErrorNamingIt) {
       << errors;
 }
 
-TEST(TensorQuery, HybridIsNotSupportedYet) {
+TEST(TensorQuery, HybridWithoutBrokerOrTopicIsNamed) {
+  const uint16_t nobody = free_port();
   auto r = nns::test::run_pipeline(
+      "tensor_query_serversrc connect-type=HYBRID port=0 topic=t dest-host=127.0.0.1 dest-port=" +
+          std::to_string(nobody) + " ! tensor_query_serversink",
+      10);
+  EXPECT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("connect-type HYBRID: cannot connect to the MQTT broker 127.0.0.1:" +
+                              std::to_string(nobody)),
+            std::string::npos)
+      << r.error_text;
+  r = nns::test::run_pipeline(
       "tensor_query_serversrc connect-type=HYBRID port=0 ! tensor_query_serversink", 5);
   EXPECT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("connect-type HYBRID is not supported yet"), std::string::npos)
+  EXPECT_NE(r.error_text.find("connect-type HYBRID needs the topic property"), std::string::npos)
       << r.error_text;
 }
 

@@ -177,6 +177,9 @@ static gboolean edgesink_start(GstBaseSink *bsink) {
     o.role = nns::edge::Role::kPublisher;
     o.host = s.host;
     o.port = static_cast<uint16_t>(s.port);
+    o.dest_host = s.dest_host;  // HYBRID: the MQTT broker
+    o.dest_port = static_cast<uint16_t>(s.dest_port);
+    o.topic = s.topic;
     nns::edge::NodeCallbacks cb;
     cb.caps = [p]() {
       std::lock_guard<std::mutex> l(p->lock);

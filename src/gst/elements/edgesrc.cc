@@ -162,6 +162,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
     o.role = nns::edge::Role::kSubscriber;
     o.dest_host = s.dest_host;
     o.dest_port = static_cast<uint16_t>(s.dest_port);
+    o.topic = s.topic;
     nns::edge::NodeCallbacks cb;
     cb.alloc = nns::gst::gst_memory_allocator();
     cb.on_data = [p](nns::edge::Message &&m) {

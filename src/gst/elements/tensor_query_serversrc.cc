@@ -183,6 +183,9 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
     o.role = nns::edge::Role::kQueryServer;
     o.host = s.host;
     o.port = static_cast<uint16_t>(s.port);
+    o.dest_host = s.dest_host;  // HYBRID: the MQTT broker
+    o.dest_port = static_cast<uint16_t>(s.dest_port);
+    o.topic = s.topic;
     o.connect_timeout_ms = s.timeout ? static_cast<int>(s.timeout) * 1000 : -1;
     nns::edge::NodeCallbacks cb;
     std::weak_ptr<nns::gst::QueryServerShared> weak = shared;
