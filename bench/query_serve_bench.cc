@@ -10,17 +10,21 @@
 //    the clients send the raw 150528-byte frames); --clients separate client processes (this
 //    binary again) each run video/x-raw ! tensor_converter ! tensor_query_client ! fakesink
 //    and send --frames frames. Two client modes:
-//      window:   timeout=0 max-request=W: a client keeps W requests in flight. The element
-//                pushes answers only from its chain (or at EOS), so when W are in flight the
-//                client re-offers its next frame every --poll us: dropped (counted) until an
-//                answer has come back;
+//      window:   timeout=0 max-request=W (--window, default 2, the element's default): a
+//                client keeps W requests in flight. The element pushes answers only from its
+//                chain (or at EOS), so when W are in flight the client re-offers its next frame
+//                every --poll us (default 2000): dropped (counted) until an answer has come
+//                back and been pushed out by that re-offer;
 //      lockstep: timeout=10000: every input waits for its answer (one request in flight per
 //                client; what a plain gst-launch client does).
 //    Clients start together (after a few warm-up frames); frames/s = all answers / (first send
 //    .. last answer). Round trip: per frame, the client's sink pad (the send) to its src pad.
-// Each round runs in-process, window and lockstep in turn; ratios are taken within a round and
-// the median over rounds is reported with the spread (the 2-core machine is shared). The server
-// filter's busy share (time inside tensor_filter over the run) tells whether the server idles.
+// Each round runs in-process, window, lockstep and in-process again; the served figures are
+// compared with the mean of the two in-process runs of their round, and the median over rounds
+// is reported with the spread (the 2-core machine is shared). The server filter's busy share
+// (time inside tensor_filter over the run) tells whether the server idles; process CPU per
+// answered frame (server process, clients) tells what serving costs. ORT runs with NumThreads:1
+// (--threads) in both.
 //
 // usage: query_serve_bench [--frames N] [--runs R] [--clients C] [--window W] [--threads T]
 //                          [--poll US] [--model PATH]
@@ -439,7 +443,7 @@ int main(int argc, char **argv) {
       (sd ? std::string(sd) : std::string(NNS_SOURCE_DIR) + "/../shared") + "/models/upstream";
   std::string model = shared + "/models/mobilenet_v2_quant.onnx";
   const std::vector<uint8_t> frame = read_all(shared + "/data/orange.raw");
-  int frames = 150, runs = 3, clients = 2, win = 2, threads = 1, poll_us = 500;
+  int frames = 60, runs = 7, clients = 2, win = 2, threads = 1, poll_us = 2000;
   if (argc >= 7 && !std::strcmp(argv[1], "--client"))
     return client_main(static_cast<uint16_t>(std::atoi(argv[2])), argv[3], std::atoi(argv[4]),
                        std::atoi(argv[5]), std::atoi(argv[6]), frame);
