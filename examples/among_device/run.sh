@@ -54,7 +54,8 @@ nns_enter_build_env
 gst-inspect-1.0 tensor_query_client >/dev/null 2>&1 ||
   nns_die 1 "tensor_query_client is not in $BUILD_DIR/plugin"
 work=$(mktemp -d)
-pids=()
+server_pid=
+broker_pid=
 # stop <pid>: SIGINT (gst-launch-1.0 then takes its pipeline to NULL: a HYBRID server clears
 # its announcement), SIGKILL after 3 s; reaps it.
 stop() {
@@ -66,9 +67,16 @@ stop() {
   kill -KILL "$1" 2>/dev/null || true
   wait "$1" 2>/dev/null || true
 }
+# stop_var <variable name>: stops the process whose PID the variable holds and clears it (so a
+# PID is never signalled again once reaped).
+stop_var() {
+  local -n ref=$1
+  [[ -z $ref ]] || stop "$ref"
+  ref=
+}
 cleanup() {
-  local i
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do stop "${pids[i]}"; done  # servers before the broker
+  stop_var server_pid # before the broker: a HYBRID server clears its announcement on it
+  stop_var broker_pid
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -96,7 +104,6 @@ serve() {
     tensor_filter framework=onnxruntime model="$MODEL" ! \
     tensor_query_serversink $3 >"$1" 2>&1 &
   server_pid=$!
-  pids+=("$server_pid")
 }
 
 # classify <name> <tensor_query_client properties>: the same preprocessing as
@@ -133,7 +140,7 @@ serve "$work/tcp.server.log" "host=127.0.0.1 port=$port" ""
 wait_port "$port" "$server_pid" "$work/tcp.server.log" "the TCP query server"
 classify tcp "host=127.0.0.1 port=0 dest-host=127.0.0.1 dest-port=$port"
 report TCP "server 127.0.0.1:$port, MobileNet v2 on ONNX Runtime in the server process"
-stop "$server_pid"
+stop_var server_pid
 
 # 2. HYBRID: a broker of our own, the server announces itself on it, the client discovers it.
 broker_port=$(free_port)
@@ -147,7 +154,6 @@ log_type warning
 EOF
 "$MOSQUITTO" -c "$work/mosquitto.conf" >"$work/mosquitto.log" 2>&1 &
 broker_pid=$!
-pids+=("$broker_pid")
 wait_port "$broker_port" "$broker_pid" "$work/mosquitto.log" "mosquitto"
 topic=among_device_$$
 port=$(free_port)
