@@ -62,7 +62,7 @@ if [[ -f $BUILD_DIR/python/nnstreamer/__init__.py && ( -z $filter || python_sing
 fi
 # The figures with targets, gathered from every result file of this run.
 if ((ran)); then
-  echo "[bench] ===== summary (targets: pipeline/direct >= 0.97, mux/demux <= 2 us per buffer)"
+  echo "[bench] ===== summary (targets: pipeline/direct >= 0.97, mux/demux <= 2 us per buffer, query_serve served/in-process >= 0.9)"
   for b in "$BUILD_DIR"/bench/*_bench; do
     name=$(basename "$b")
     [[ -z $filter || $name == *"$filter"* ]] || continue
