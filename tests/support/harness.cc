@@ -1,9 +1,15 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 #include "support/harness.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <mutex>
+#include <vector>
 
 namespace nns::test {
 
@@ -88,10 +94,43 @@ std::string imagenet_labels_1000() {
   return std::filesystem::exists(p) ? p.string() : std::string();
 }
 
+namespace {
+
+// The folders make_temp_dir() made in this process, removed when it exits. A forked child
+// inherits the list but not the ownership: only the process that made them removes them.
+struct TempDirs {
+  std::mutex lock;
+  std::vector<std::string> dirs;
+  pid_t owner = getpid();
+};
+
+TempDirs &temp_dirs() {
+  static TempDirs *t = [] {
+    auto *p = new TempDirs;  // never destroyed: the exit handler below still needs it
+    std::atexit([] {
+      TempDirs &td = temp_dirs();
+      if (getpid() != td.owner || std::getenv("NNS_KEEP_TEST_TMP")) return;
+      std::lock_guard<std::mutex> g(td.lock);
+      for (const auto &d : td.dirs) {
+        std::error_code ec;
+        std::filesystem::remove_all(d, ec);
+      }
+    });
+    return p;
+  }();
+  return *t;
+}
+
+}  // namespace
+
 std::string make_temp_dir() {
   char tmpl[] = "/tmp/nns-test-XXXXXX";
   char *d = mkdtemp(tmpl);
-  return d ? std::string(d) : std::string("/tmp");
+  if (!d) return std::string("/tmp");
+  TempDirs &td = temp_dirs();
+  std::lock_guard<std::mutex> g(td.lock);
+  td.dirs.emplace_back(d);
+  return std::string(d);
 }
 
 }  // namespace nns::test

@@ -70,7 +70,8 @@ inline bool in_ci() {
 // (cmake/imagenet_labels.cmake); "" if it was not generated.
 std::string imagenet_labels_1000();
 
-// A fresh temporary folder, removed by the caller (or left in /tmp).
+// A fresh temporary folder under /tmp, removed with its contents when the test process exits
+// (kept when NNS_KEEP_TEST_TMP is set, to look at after a failure).
 std::string make_temp_dir();
 
 }  // namespace nns::test

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -207,11 +208,22 @@ int64_t process_cpu_ns() {
 
 json run_pipeline(const Options &o, bool &failed, json &process) {
   std::string trace = o.trace;
+  std::string own_dir;  // our temporary folder when the user gave no trace file
   if (trace.empty()) {
     gchar *dir = g_dir_make_tmp("nns-profile-XXXXXX", nullptr);
+    if (dir) own_dir = dir;
     trace = std::string(dir ? dir : "/tmp") + "/trace.json";
     g_free(dir);
   }
+  // Removes the temporary trace and its folder on every way out, early failures included.
+  struct TempTrace {
+    const std::string &dir;
+    ~TempTrace() {
+      if (dir.empty()) return;
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  } temp_trace{own_dir};
   std::remove(trace.c_str());
   // The build tree's plugin and sub-plugins, unless the environment already names them.
   const std::string b = NNS_BUILD_DIR;
@@ -298,12 +310,7 @@ json run_pipeline(const Options &o, bool &failed, json &process) {
     std::fputc('\n', stderr);
   }
   failed = run.error;
-  json j = read_trace(trace);
-  if (o.trace.empty()) {
-    std::remove(trace.c_str());
-    std::remove(trace.substr(0, trace.rfind('/')).c_str());
-  }
-  return j;
+  return read_trace(trace);
 }
 
 bool write_text(const std::string &path, const std::string &text) {
