@@ -11,6 +11,7 @@
 #include <poll.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <thread>
@@ -664,4 +665,9 @@ TEST(MqttElements, PublisherInAnotherProcess) {
     gst_sample_unref(w);
   }
   EXPECT_EQ(pub.wait_exit(), 0) << pub.log();
+  // edge_test::Child leaves its log (TempDir()/edge_child_<tag>_<pid>.log); kept on failure.
+  if (!::testing::Test::HasFailure())
+    std::remove((std::string(::testing::TempDir()) + "edge_child_mqtt_pub_" +
+                 std::to_string(getpid()) + ".log")
+                    .c_str());
 }
