@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "../mqtt/mosquitto_broker.h"
+#include "gst/extra_plugins.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
 #include "nnstreamer_fb.grpc.fb.h"
@@ -23,6 +24,14 @@
 using namespace std::chrono_literals;
 
 namespace {
+
+// tensor_src_grpc/tensor_sink_grpc are the "nnstreamer_grpc" plugin (libnnstreamer-grpc.so):
+// registered in this process too, after test_main's gst_init().
+class GrpcPlugin : public ::testing::Environment {
+  void SetUp() override { ASSERT_TRUE(nns_grpc_register_static()); }
+};
+[[maybe_unused]] ::testing::Environment *const g_grpc_plugin =
+    ::testing::AddGlobalTestEnvironment(new GrpcPlugin);
 
 class Pipe {
  public:
