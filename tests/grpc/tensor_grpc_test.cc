@@ -15,9 +15,9 @@
 #include "gst/extra_plugins.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
-#include "nnstreamer_fb.grpc.fb.h"
-#include "nnstreamer_fb_generated.h"
-#include "nnstreamer_grpc.grpc.pb.h"
+#include "nnstreamer.grpc.fb.h"
+#include "nnstreamer_generated.h"
+#include "nnstreamer.grpc.pb.h"
 #include "support/deadline.h"
 #include "support/harness.h"
 
