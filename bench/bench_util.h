@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// The pipeline-timing loop the benchmarks share: run a gst-launch description from PLAYING to
-// EOS and take its wall and process-CPU time, run several descriptions interleaved, take
-// medians. Header-only; every bench/<name>_bench.cc is its own program.
+// What the pipeline benchmarks share: run a gst-launch description from PLAYING to EOS and take
+// its wall and process-CPU time, run several descriptions interleaved, take medians; "--name
+// value" options; the custom-easy pass-through filter of the filter benchmarks. Header-only;
+// every bench/<name>_bench.cc is its own program.
 #pragma once
 
 #include <gst/gst.h>
@@ -16,6 +17,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "tensor_filter_custom_easy.h"
 
 namespace nns::bench {
 
@@ -112,6 +115,25 @@ inline std::vector<Timing> measure(const std::vector<std::string> &descs, int ru
   for (std::size_t i = 0; i < descs.size(); ++i)
     if (!wall[i].empty()) out[i] = Timing{median(wall[i]), median(cpu[i])};
   return out;
+}
+
+// A custom-easy model that copies every input tensor to its output.
+inline int passthrough(void *, const GstTensorFilterProperties *prop, const GstTensorMemory *in,
+                       GstTensorMemory *out) {
+  for (unsigned i = 0; i < prop->input_meta.num_tensors; ++i)
+    std::memcpy(out[i].data, in[i].data, in[i].size);
+  return 0;
+}
+
+// Registers passthrough() as custom-easy model `name` for one uint8 4:1:1:1 tensor in and out
+// (the tiny frames of the filter-overhead benchmarks). Returns NNS_custom_easy_register's result.
+inline int register_tiny_passthrough(const char *name) {
+  GstTensorsInfo one{};
+  one.num_tensors = 1;
+  one.info[0].type = _NNS_UINT8;
+  one.info[0].dimension[0] = 4;
+  one.info[0].dimension[1] = one.info[0].dimension[2] = one.info[0].dimension[3] = 1;
+  return NNS_custom_easy_register(name, passthrough, nullptr, &one, &one);
 }
 
 // True when every run of measure() succeeded (and none was skipped).

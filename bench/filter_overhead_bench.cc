@@ -25,13 +25,6 @@ namespace {
 
 using nns::bench::Timing;
 
-int passthrough(void *, const GstTensorFilterProperties *prop, const GstTensorMemory *in,
-                GstTensorMemory *out) {
-  for (unsigned i = 0; i < prop->input_meta.num_tensors; ++i)
-    std::memcpy(out[i].data, in[i].data, in[i].size);
-  return 0;
-}
-
 std::atomic<const void *> g_seen{nullptr};
 std::atomic<long> g_checked{0}, g_copied{0};
 const void *g_upstream = nullptr;
@@ -99,12 +92,7 @@ int main(int argc, char **argv) {
   }
   int n = 100000, runs = 5;
   nns::bench::int_options(argc, argv, {{"--buffers", &n}, {"--runs", &runs}});
-  GstTensorsInfo one{};
-  one.num_tensors = 1;
-  one.info[0].type = _NNS_UINT8;
-  one.info[0].dimension[0] = 4;
-  one.info[0].dimension[1] = one.info[0].dimension[2] = one.info[0].dimension[3] = 1;
-  NNS_custom_easy_register("bench_pass", passthrough, nullptr, &one, &one);
+  nns::bench::register_tiny_passthrough("bench_pass");
   GstTensorsInfo big{};
   big.num_tensors = 1;
   big.info[0].type = _NNS_UINT8;

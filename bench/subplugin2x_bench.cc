@@ -25,13 +25,6 @@ namespace {
 
 using nns::bench::Timing;
 
-int passthrough(void *, const GstTensorFilterProperties *prop, const GstTensorMemory *in,
-                GstTensorMemory *out) {
-  for (unsigned i = 0; i < prop->input_meta.num_tensors; ++i)
-    std::memcpy(out[i].data, in[i].data, in[i].size);
-  return 0;
-}
-
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -45,12 +38,7 @@ int main(int argc, char **argv) {
   }
   int n = 100000, runs = 7;
   nns::bench::int_options(argc, argv, {{"--buffers", &n}, {"--runs", &runs}});
-  GstTensorsInfo one{};
-  one.num_tensors = 1;
-  one.info[0].type = _NNS_UINT8;
-  one.info[0].dimension[0] = 4;
-  one.info[0].dimension[1] = one.info[0].dimension[2] = one.info[0].dimension[3] = 1;
-  NNS_custom_easy_register("bench_pass", passthrough, nullptr, &one, &one);
+  nns::bench::register_tiny_passthrough("bench_pass");
 
   const std::string src =
       "fakesrc num-buffers=" + std::to_string(n) +
