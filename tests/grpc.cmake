@@ -5,3 +5,7 @@
 if(TARGET tensor_grpc_test)
   target_link_libraries(tensor_grpc_test PRIVATE nns_gst_grpc)
 endif()
+# TensorGrpc.OnlyTheGrpcPluginLinksGrpc reads both plugin modules.
+if(TARGET tensor_grpc_test)
+  add_dependencies(tensor_grpc_test nnstreamer nnstreamer_grpc)
+endif()
