@@ -14,6 +14,7 @@
 #include <string>
 
 #include "../tests/mqtt/mosquitto_broker.h"
+#include "gst/extra_plugins.h"
 #include "gst/plugin_init.h"
 
 namespace {
@@ -87,6 +88,8 @@ void run(const char *what, const std::string &rx_desc, const std::string &tx_des
 int main(int argc, char **argv) {
   gst_init(&argc, &argv);
   nns_register_static();
+  nns_mqtt_register_static();  // mqttsink/mqttsrc: the "mqtt" plugin
+  nns_grpc_register_static();  // tensor_*_grpc: the "nnstreamer_grpc" plugin
   const std::string which = argc > 1 ? argv[1] : "all";
   const int frames = argc > 2 ? std::atoi(argv[2]) : 500;
   if (which == "all" || which == "mqtt") {

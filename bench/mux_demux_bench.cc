@@ -20,60 +20,16 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "gst/plugin_init.h"
 #include "tensor_filter_custom_easy.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-struct Timing {
-  double wall = -1;
-  double cpu = -1;
-};
-
-double cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
-Timing time_pipeline(const std::string &desc) {
-  GError *err = nullptr;
-  GstElement *p = gst_parse_launch(desc.c_str(), &err);
-  if (!p || err) {
-    std::fprintf(stderr, "bench: cannot parse '%s': %s\n", desc.c_str(), err ? err->message : "?");
-    if (err) g_error_free(err);
-    if (p) gst_object_unref(p);
-    return {};
-  }
-  GstBus *bus = gst_element_get_bus(p);
-  auto t0 = Clock::now();
-  double c0 = cpu_seconds();
-  gst_element_set_state(p, GST_STATE_PLAYING);
-  GstMessage *m = gst_bus_timed_pop_filtered(
-      bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  Timing t{std::chrono::duration<double>(Clock::now() - t0).count(), cpu_seconds() - c0};
-  if (!m || GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-    if (m) {
-      GError *e = nullptr;
-      gst_message_parse_error(m, &e, nullptr);
-      std::fprintf(stderr, "bench: error in '%s': %s\n", desc.c_str(), e->message);
-      g_error_free(e);
-    }
-    t = Timing{};
-  }
-  if (m) gst_message_unref(m);
-  gst_element_set_state(p, GST_STATE_NULL);
-  gst_object_unref(bus);
-  gst_object_unref(p);
-  return t;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? -1 : v[v.size() / 2];
-}
+using nns::bench::Clock;
+using nns::bench::median;
+using nns::bench::time_pipeline;
+using nns::bench::Timing;
 
 const char *kTiny =
     "other/tensors,format=static,num_tensors=1,dimensions=(string)4,types=uint8,framerate=30/1";
@@ -158,41 +114,31 @@ int main(int argc, char **argv) {
   int n = 20000, runs = 5, frames = 400;
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--sleep")) g_sleep = true;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--buffers")) n = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--frames")) frames = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--burn-us")) g_burn_us = std::atoi(argv[i + 1]);
-  }
+  nns::bench::int_options(
+      argc, argv,
+      {{"--buffers", &n}, {"--runs", &runs}, {"--frames", &frames}, {"--burn-us", &g_burn_us}});
 
   std::printf("# 1. tensor_mux (4 x uint8 4) + tensor_demux, %d buffers per stream, median of %d\n",
               n, runs);
   for (const std::string mode : {"nosync", "slowest"}) {
-    std::vector<double> w0, c0, w1, c1, w2, c2;
-    for (int r = 0; r < runs; ++r) {
-      Timing a = time_pipeline(sinks_direct(n));
-      Timing b = time_pipeline(mux_only(n, mode));
-      Timing c = time_pipeline(mux_demux(n, mode));
-      if (a.wall < 0 || b.wall < 0 || c.wall < 0) return 1;
-      w0.push_back(a.wall), c0.push_back(a.cpu);
-      w1.push_back(b.wall), c1.push_back(b.cpu);
-      w2.push_back(c.wall), c2.push_back(c.cpu);
-    }
+    const std::vector<Timing> t =
+        nns::bench::measure({sinks_direct(n), mux_only(n, mode), mux_demux(n, mode)}, runs);
+    if (!nns::bench::all_measured(t)) return 1;
     const double in_bufs = 4.0 * n;
     std::printf("sync-mode=%s\n", mode.c_str());
-    std::printf("  baseline 4 src -> 4 sink     wall %.3f s  cpu %.3f s\n", median(w0), median(c0));
-    std::printf("  4 src -> mux -> sink         wall %.3f s  cpu %.3f s\n", median(w1), median(c1));
-    std::printf("  4 src -> mux -> demux -> 4   wall %.3f s  cpu %.3f s\n", median(w2), median(c2));
+    std::printf("  baseline 4 src -> 4 sink     wall %.3f s  cpu %.3f s\n", t[0].wall, t[0].cpu);
+    std::printf("  4 src -> mux -> sink         wall %.3f s  cpu %.3f s\n", t[1].wall, t[1].cpu);
+    std::printf("  4 src -> mux -> demux -> 4   wall %.3f s  cpu %.3f s\n", t[2].wall, t[2].cpu);
     std::printf(
         "  tensor_mux:   %.2f us wall, %.2f us cpu per input buffer (%.2f / %.2f per "
         "output)\n",
-        (median(w1) - median(w0)) / in_bufs * 1e6, (median(c1) - median(c0)) / in_bufs * 1e6,
-        (median(w1) - median(w0)) / n * 1e6, (median(c1) - median(c0)) / n * 1e6);
+        (t[1].wall - t[0].wall) / in_bufs * 1e6, (t[1].cpu - t[0].cpu) / in_bufs * 1e6,
+        (t[1].wall - t[0].wall) / n * 1e6, (t[1].cpu - t[0].cpu) / n * 1e6);
     std::printf(
         "  tensor_demux: %.2f us wall, %.2f us cpu per output buffer (%.2f / %.2f per "
         "input)\n",
-        (median(w2) - median(w1)) / in_bufs * 1e6, (median(c2) - median(c1)) / in_bufs * 1e6,
-        (median(w2) - median(w1)) / n * 1e6, (median(c2) - median(c1)) / n * 1e6);
+        (t[2].wall - t[1].wall) / in_bufs * 1e6, (t[2].cpu - t[1].cpu) / in_bufs * 1e6,
+        (t[2].wall - t[1].wall) / n * 1e6, (t[2].cpu - t[1].cpu) / n * 1e6);
   }
 
   std::printf("\n# 2. E1: two models %s %d us each, %d frames, median of %d\n",

@@ -21,11 +21,16 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.h"
 #include "gst/plugin_init.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using nns::bench::Clock;
+using nns::bench::cpu_seconds;
+using nns::bench::measure;
+using nns::bench::median;
+using nns::bench::Timing;
 
 bool has_elements(std::initializer_list<const char *> names, std::string *missing) {
   for (const char *n : names) {
@@ -37,76 +42,6 @@ bool has_elements(std::initializer_list<const char *> names, std::string *missin
     gst_object_unref(f);
   }
   return true;
-}
-
-// Wall and process-CPU seconds (all threads of this process; less sensitive to other processes
-// on a shared machine).
-struct Timing {
-  double wall = -1;
-  double cpu = -1;
-};
-
-double cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
-// Time from PLAYING to EOS; negative on error.
-Timing time_pipeline(const std::string &desc) {
-  GError *err = nullptr;
-  GstElement *p = gst_parse_launch(desc.c_str(), &err);
-  if (!p || err) {
-    std::fprintf(stderr, "bench: cannot parse '%s': %s\n", desc.c_str(), err ? err->message : "?");
-    if (err) g_error_free(err);
-    if (p) gst_object_unref(p);
-    return {};
-  }
-  // Parsing is not timed; start-up (state changes, negotiation) is, once per run.
-  GstBus *bus = gst_element_get_bus(p);
-  auto t0 = Clock::now();
-  double c0 = cpu_seconds();
-  gst_element_set_state(p, GST_STATE_PLAYING);
-  GstMessage *m = gst_bus_timed_pop_filtered(
-      bus, 600 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  Timing s{std::chrono::duration<double>(Clock::now() - t0).count(), cpu_seconds() - c0};
-  if (!m || GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-    if (m) {
-      GError *e = nullptr;
-      gst_message_parse_error(m, &e, nullptr);
-      std::fprintf(stderr, "bench: error in '%s': %s\n", desc.c_str(), e->message);
-      g_error_free(e);
-    }
-    s = Timing{};
-  }
-  if (m) gst_message_unref(m);
-  gst_element_set_state(p, GST_STATE_NULL);
-  gst_object_unref(bus);
-  gst_object_unref(p);
-  return s;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? -1 : v[v.size() / 2];
-}
-
-// Runs every description `runs` times, interleaved; returns the median wall and CPU seconds of
-// each (negative when the configuration is unavailable or failed).
-std::vector<Timing> measure(const std::vector<std::string> &descs, int runs) {
-  std::vector<std::vector<double>> wall(descs.size()), cpu(descs.size());
-  for (int r = 0; r < runs; ++r)
-    for (std::size_t i = 0; i < descs.size(); ++i) {
-      if (descs[i].empty()) continue;
-      Timing t = time_pipeline(descs[i]);
-      if (t.wall < 0) return std::vector<Timing>(descs.size());
-      wall[i].push_back(t.wall);
-      cpu[i].push_back(t.cpu);
-    }
-  std::vector<Timing> out(descs.size());
-  for (std::size_t i = 0; i < descs.size(); ++i)
-    if (!wall[i].empty()) out[i] = Timing{median(wall[i]), median(cpu[i])};
-  return out;
 }
 
 // memcpy bandwidth (bytes/s, wall and process-CPU clocks) for blocks of `bytes`, median of 5
@@ -177,14 +112,7 @@ CopyCount converter_copies(int frames) {
   gst_object_unref(sink);
   gst_object_unref(src);
   gst_object_unref(conv);
-  GstBus *bus = gst_element_get_bus(p);
-  gst_element_set_state(p, GST_STATE_PLAYING);
-  GstMessage *m = gst_bus_timed_pop_filtered(
-      bus, 60 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  if (!m || GST_MESSAGE_TYPE(m) != GST_MESSAGE_EOS) c.buffers = -1;
-  if (m) gst_message_unref(m);
-  gst_element_set_state(p, GST_STATE_NULL);
-  gst_object_unref(bus);
+  if (!nns::bench::play_to_eos(p, 60 * GST_SECOND)) c.buffers = -1;
   gst_object_unref(p);
   return c;
 }
@@ -198,13 +126,8 @@ int main(int argc, char **argv) {
     return 1;
   }
   int n = 100000, frames = 2000, runs = 5;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    std::string a = argv[i];
-    int v = std::atoi(argv[i + 1]);
-    if (a == "--buffers") n = v;
-    if (a == "--frames") frames = v;
-    if (a == "--runs") runs = v;
-  }
+  nns::bench::int_options(argc, argv,
+                          {{"--buffers", &n}, {"--frames", &frames}, {"--runs", &runs}});
   std::string missing;
   const bool have_conv = has_elements({"tensor_converter"}, &missing);
   const bool have_trans = have_conv && has_elements({"tensor_transform"}, &missing);

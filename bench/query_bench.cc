@@ -11,13 +11,10 @@
 // once per receive. For scale the bench also times one memcpy of a frame.
 //
 // usage: query_bench [--frames N] [--runs R]
-#include <arpa/inet.h>
 #include <gst/app/gstappsink.h>
 #include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
-#include <netinet/in.h>
 #include <sys/resource.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "../tests/support/net_util.h"
 #include "gst/plugin_init.h"
 
 namespace {
@@ -40,17 +38,7 @@ const char *kCaps =
     "other/tensors,format=static,num_tensors=1,dimensions=(string)3:224:224:1,"
     "types=(string)uint8,framerate=(fraction)0/1";
 
-uint16_t free_port() {
-  int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr *>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr *>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
-}
+using nns::test::free_port;
 
 GstElement *launch(const std::string &d) {
   GError *err = nullptr;

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// Link over NNStreamer's TensorService with idl=flatbuf (src/grpc/nnstreamer_fb.fbs, flatc
+// Link over NNStreamer's TensorService with idl=flatbuf (backends/common/wire/nnstreamer.fbs, flatc
 // --grpc). Every received message goes through the flatbuffers verifier before it is read.
 #include <cstring>
 
 #include "grpc/link_core.h"
-#include "nnstreamer_fb.grpc.fb.h"
-#include "nnstreamer_fb_generated.h"
+#include "nnstreamer.grpc.fb.h"
+#include "nnstreamer_generated.h"
 
 namespace nns::grpclink {
 

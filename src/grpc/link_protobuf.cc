@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// Link over NNStreamer's TensorService with idl=protobuf (src/grpc/nnstreamer_grpc.proto).
+// Link over NNStreamer's TensorService with idl=protobuf (backends/common/wire/nnstreamer.proto).
 #include "grpc/link_core.h"
-#include "nnstreamer_grpc.grpc.pb.h"
+#include "nnstreamer.grpc.pb.h"
 
 namespace nns::grpclink {
 

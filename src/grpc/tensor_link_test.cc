@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "nnstreamer_fb.grpc.fb.h"
-#include "nnstreamer_grpc.grpc.pb.h"
+#include "nnstreamer.grpc.fb.h"
+#include "nnstreamer.grpc.pb.h"
 
 using namespace nns::grpclink;
 

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// What tensor_src_grpc and tensor_sink_grpc share: NNStreamer's defaults, the caps template and
-// the conversion between a negotiated tensors config and a gRPC frame.
+// What tensor_src_grpc and tensor_sink_grpc share: NNStreamer's defaults, the caps template, the
+// properties both have (settings, install, set, get), the link options and the conversion
+// between a negotiated tensors config and a gRPC frame.
 #pragma once
 
 #include <gst/gst.h>
 
+#include <mutex>
 #include <string>
 
 #include "core/error.h"
@@ -21,6 +23,46 @@ inline constexpr char kDefaultIdl[] = "protobuf";
   "other/tensor, framerate = (fraction) [ 0, max ]; "                         \
   "other/tensors, format = (string) static, num_tensors = (int) [ 1, 256 ], " \
   "framerate = (fraction) [ 0, max ]"
+
+// How the two elements' properties differ (upstream's defaults and texts).
+struct Role {
+  bool default_server;
+  const char *host_blurb;
+  const char *port_blurb;
+  const char *out_blurb;
+};
+inline constexpr Role kSinkRole{false, "The host/IP to send the packets to",
+                                "The port to send the packets to",
+                                "The number of output messages generated"};
+inline constexpr Role kSrcRole{true, "The hostname to listen as or connect",
+                               "The port to listen to (0=random available port) or connect",
+                               "The number of output buffers generated"};
+
+enum Prop : guint {
+  kPropServer = 1,
+  kPropBlocking,
+  kPropIdl,
+  kPropHost,
+  kPropPort,
+  kPropOut,
+  kPropSilent
+};
+
+struct Settings {
+  explicit Settings(const Role &r) : server(r.default_server) {}
+  bool server;
+  bool blocking = true;
+  std::string idl = kDefaultIdl;
+  std::string host = kDefaultHost;
+  int port = kDefaultPort;
+  bool silent = true;
+};
+
+// Installs silent, server, blocking, idl, host, port and the read-only out.
+void install_properties(GObjectClass *klass, const Role &role);
+// Set / get a property of `s` (`out`: the element's counter); false for an unknown id.
+bool set_property(Settings &s, guint id, const GValue *value);
+bool get_property(const Settings &s, guint out, guint id, GValue *value);
 
 // idl: protobuf or flatbuf (upstream's values).
 inline grpclink::Idl parse_idl(const std::string &idl) {
@@ -43,5 +85,11 @@ inline TensorsConfig config_of(const grpclink::Frame &f) {
   c.rate_d = f.rate_d > 0 ? f.rate_d : 1;
   return c;
 }
+
+// The link the settings ask for; throws nns::Error for a bad idl.
+grpclink::LinkOptions link_options(const Settings &s, grpclink::Direction direction);
+
+// After a server's start(): its `port` property shows the port bound (port=0 picks one).
+void record_bound_port(std::mutex &lock, Settings &s, const grpclink::Link &link);
 
 }  // namespace nns::gst::grpc

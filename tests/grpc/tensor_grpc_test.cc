@@ -8,21 +8,33 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstring>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "../mqtt/mosquitto_broker.h"
+#include "gst/extra_plugins.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
-#include "nnstreamer_fb.grpc.fb.h"
-#include "nnstreamer_fb_generated.h"
-#include "nnstreamer_grpc.grpc.pb.h"
+#include "nnstreamer.grpc.fb.h"
+#include "nnstreamer_generated.h"
+#include "nnstreamer.grpc.pb.h"
 #include "support/deadline.h"
 #include "support/harness.h"
 
 using namespace std::chrono_literals;
 
 namespace {
+
+// tensor_src_grpc/tensor_sink_grpc are the "nnstreamer_grpc" plugin (libnnstreamer-grpc.so):
+// registered in this process too, after test_main's gst_init().
+class GrpcPlugin : public ::testing::Environment {
+  void SetUp() override { ASSERT_TRUE(nns_grpc_register_static()); }
+};
+[[maybe_unused]] ::testing::Environment *const g_grpc_plugin =
+    ::testing::AddGlobalTestEnvironment(new GrpcPlugin);
 
 class Pipe {
  public:
@@ -350,4 +362,27 @@ TEST(TensorGrpc, BadFlatbufMessageFromAPeer) {
               std::string::npos)
         << err;
   }
+}
+
+// The elements are their own plugin so that other pipelines never load gRPC: the nnstreamer
+// plugin module links neither gRPC nor protobuf, the nnstreamer_grpc module does (ELF NEEDED).
+TEST(TensorGrpc, OnlyTheGrpcPluginLinksGrpc) {
+  auto needed = [](const std::string &so) {
+    std::string out;
+    if (FILE *f = popen(("readelf -d '" + so + "' 2>&1").c_str(), "r")) {
+      char buf[512];
+      while (fgets(buf, sizeof buf, f))
+        if (std::strstr(buf, "(NEEDED)")) out += buf;
+      pclose(f);
+    }
+    return out;
+  };
+  const std::string dir = std::string(NNS_BUILD_DIR) + "/plugin/";
+  const std::string core = needed(dir + "libnnstreamer.so");
+  const std::string grpc = needed(dir + "libnnstreamer-grpc.so");
+  ASSERT_NE(core.find("libgst"), std::string::npos) << "readelf -d libnnstreamer.so: " << core;
+  EXPECT_EQ(core.find("grpc"), std::string::npos) << core;
+  EXPECT_EQ(core.find("protobuf"), std::string::npos) << core;
+  EXPECT_NE(grpc.find("libgrpc++"), std::string::npos) << grpc;
+  EXPECT_NE(grpc.find("libnnstreamer_wire.so"), std::string::npos) << grpc;
 }

@@ -1,22 +1,24 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // A real MQTT broker for the tests: Debian's mosquitto on 127.0.0.1 and a free port, from a
-// tiny config file; started by the test, waited for until it accepts, stopped by its PID.
+// tiny config file; started by the test, waited for until it accepts, stopped by its PID. Its
+// config and log live in a /tmp/nns_mosquitto_XXXXXX folder that the destructor removes.
 #pragma once
 
-#include <arpa/inet.h>
 #include <fcntl.h>
-#include <netinet/in.h>
 #include <signal.h>
 #include <spawn.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
+
+#include "../support/net_util.h"  // relative: bench/among_device_bench.cc includes this file too
 
 extern char **environ;
 
@@ -24,28 +26,8 @@ namespace mqtt_test {
 
 using namespace std::chrono_literals;
 
-inline uint16_t free_port() {
-  int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr *>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  getsockname(fd, reinterpret_cast<sockaddr *>(&a), &len);
-  close(fd);
-  return ntohs(a.sin_port);
-}
-
-inline bool port_open(uint16_t port) {
-  int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  const bool ok = connect(fd, reinterpret_cast<sockaddr *>(&a), sizeof a) == 0;
-  close(fd);
-  return ok;
-}
+using nns::test::free_port;
+using nns::test::port_open;
 
 inline const char *mosquitto_path() {
   for (const char *p : {"/usr/sbin/mosquitto", "/usr/bin/mosquitto"})
@@ -57,13 +39,24 @@ class Broker {
  public:
   explicit Broker(uint16_t port = 0) : port_(port ? port : free_port()) {
     char tmpl[] = "/tmp/nns_mosquitto_XXXXXX";
-    dir_ = mkdtemp(tmpl) ? tmpl : "/tmp";
+    own_dir_ = mkdtemp(tmpl) != nullptr;
+    dir_ = own_dir_ ? tmpl : "/tmp";
     conf_ = dir_ + "/mosquitto.conf";
+    log_ = dir_ + "/mosquitto.log";
     std::ofstream(conf_) << "listener " << port_ << " 127.0.0.1\n"
                          << "allow_anonymous true\npersistence false\n"
                          << "log_dest stderr\nlog_type error\nlog_type warning\n";
   }
-  ~Broker() { stop(); }
+  // Stops the broker, then removes its config, log and folder.
+  ~Broker() {
+    stop();
+    if (!own_dir_) return;
+    std::remove(conf_.c_str());
+    std::remove(log_.c_str());
+    rmdir(dir_.c_str());
+  }
+  Broker(const Broker &) = delete;
+  Broker &operator=(const Broker &) = delete;
   uint16_t port() const { return port_; }
   std::string port_str() const { return std::to_string(port_); }
 
@@ -75,8 +68,7 @@ class Broker {
     char *argv[] = {e.data(), c.data(), conf_.data(), nullptr};
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
-    const std::string log = dir_ + "/mosquitto.log";
-    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    posix_spawn_file_actions_addopen(&fa, 1, log_.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
     const int rc = posix_spawn(&pid_, exe, &fa, nullptr, argv, environ);
     posix_spawn_file_actions_destroy(&fa);
@@ -95,6 +87,14 @@ class Broker {
       std::this_thread::sleep_for(10ms);
     }
     return false;
+  }
+
+  // What mosquitto wrote (errors and warnings), e.g. why it did not start.
+  std::string log() const {
+    std::ifstream f(log_);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
   }
 
   // SIGTERM, then SIGKILL after 3 s; reaps the process.
@@ -117,16 +117,18 @@ class Broker {
  private:
   uint16_t port_;
   pid_t pid_ = -1;
-  std::string dir_, conf_;
+  bool own_dir_ = false;
+  std::string dir_, conf_, log_;
 };
 
 }  // namespace mqtt_test
 
 // Skips (or fails under CI=true) when Debian's mosquitto is not installed (tests only: needs
 // support/harness.h).
-#define MQTT_REQUIRE_BROKER(b)                                                    \
-  do {                                                                            \
-    if (!::mqtt_test::mosquitto_path())                                           \
-      NNS_SKIP_UNLESS_CI("mosquitto is not installed (scripts/deps/mqtt.apt)");   \
-    ASSERT_TRUE((b).start()) << "mosquitto did not start on port " << (b).port(); \
+#define MQTT_REQUIRE_BROKER(b)                                                   \
+  do {                                                                           \
+    if (!::mqtt_test::mosquitto_path())                                          \
+      NNS_SKIP_UNLESS_CI("mosquitto is not installed (scripts/deps/mqtt.apt)");  \
+    ASSERT_TRUE((b).start()) << "mosquitto did not start on port " << (b).port() \
+                             << "; its log: " << (b).log();                      \
   } while (0)

@@ -11,13 +11,15 @@
 #include <poll.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstring>
 #include <mutex>
 #include <thread>
 #include <vector>
 
-#include "gst/gst_ptr.h"
 #include "../edge/edge_test_util.h"
+#include "gst/extra_plugins.h"
+#include "gst/gst_ptr.h"
 #include "mosquitto_broker.h"
 #include "mqtt/mqtt_client.h"
 #include "mqtt/mqtt_message.h"
@@ -28,6 +30,14 @@ using namespace std::chrono_literals;
 using mqtt_test::Broker;
 
 namespace {
+
+// mqttsink/mqttsrc are the "mqtt" plugin (libgstmqtt.so): registered in this process too, after
+// test_main's gst_init() (also in the EdgeChild.Run child, the same program).
+class MqttPlugin : public ::testing::Environment {
+  void SetUp() override { ASSERT_TRUE(nns_mqtt_register_static()); }
+};
+[[maybe_unused]] ::testing::Environment *const g_mqtt_plugin =
+    ::testing::AddGlobalTestEnvironment(new MqttPlugin);
 
 std::atomic<int> g_topic{0};
 std::string unique_topic() {
@@ -664,4 +674,9 @@ TEST(MqttElements, PublisherInAnotherProcess) {
     gst_sample_unref(w);
   }
   EXPECT_EQ(pub.wait_exit(), 0) << pub.log();
+  // edge_test::Child leaves its log (TempDir()/edge_child_<tag>_<pid>.log); kept on failure.
+  if (!::testing::Test::HasFailure())
+    std::remove((std::string(::testing::TempDir()) + "edge_child_mqtt_pub_" +
+                 std::to_string(getpid()) + ".log")
+                    .c_str());
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// Frames <-> nnstreamer.proto messages (NNStreamer::Tensors).
+// Frames <-> nnstreamer.proto messages (nnstreamer::protobuf::Tensors).
 #include <string>
 
 #include "nnstreamer.pb.h"
@@ -9,15 +9,15 @@ namespace nns::wire {
 
 void encode_protobuf(const Frame &f, std::vector<uint8_t> &out) {
   validate(f);
-  NNStreamer::Tensors msg;
+  nnstreamer::protobuf::Tensors msg;
   msg.set_num_tensor(static_cast<uint32_t>(f.tensors.size()));
   msg.mutable_fr()->set_rate_n(f.rate_n);
   msg.mutable_fr()->set_rate_d(f.rate_d);
-  msg.set_format(static_cast<NNStreamer::Tensors_Tensor_format>(f.format));
+  msg.set_format(static_cast<nnstreamer::protobuf::Tensors_Tensor_format>(f.format));
   for (const Tensor &t : f.tensors) {
-    NNStreamer::Tensor *pt = msg.add_tensor();
+    nnstreamer::protobuf::Tensor *pt = msg.add_tensor();
     pt->set_name(t.name);
-    pt->set_type(static_cast<NNStreamer::Tensor_Tensor_type>(t.type));
+    pt->set_type(static_cast<nnstreamer::protobuf::Tensor_Tensor_type>(t.type));
     for (uint32_t d : t.dims) pt->add_dimension(d);  // all 16 entries, as upstream writes
     pt->set_data(t.data, t.size);
   }
@@ -77,7 +77,7 @@ std::string framing_problem(const uint8_t *d, std::size_t n) {
 
 Frame decode_protobuf(const uint8_t *data, std::size_t size) {
   if (size > INT32_MAX) throw WireError("protobuf: input larger than 2 GiB");
-  auto msg = std::make_shared<NNStreamer::Tensors>();
+  auto msg = std::make_shared<nnstreamer::protobuf::Tensors>();
   if (!msg->ParseFromArray(data, static_cast<int>(size))) {
     const std::string why = framing_problem(data, size);
     throw WireError("protobuf: input (" + std::to_string(size) +
@@ -96,7 +96,7 @@ Frame decode_protobuf(const uint8_t *data, std::size_t size) {
                     std::to_string(kTensorLimit));
   f.tensors.resize(msg->tensor_size());
   for (int i = 0; i < msg->tensor_size(); ++i) {
-    const NNStreamer::Tensor &pt = msg->tensor(i);
+    const nnstreamer::protobuf::Tensor &pt = msg->tensor(i);
     Tensor &t = f.tensors[i];
     t.name = pt.name();
     t.type = static_cast<uint32_t>(pt.type());

@@ -42,18 +42,12 @@ namespace {
 
 namespace mq = nns::gst::mqtt;
 
-struct Settings {
-  bool debug = false;
-  std::string client_id = mq::kSinkDefaultClientId;
-  std::string host = mq::kDefaultHost;
-  std::string port = mq::kDefaultPort;
+struct Settings : mq::CommonSettings {
+  Settings() : mq::CommonSettings(mq::kSinkRole) {}
   std::string topic = mq::kDefaultPubTopic;
   gulong pub_wait_timeout = 1;
-  bool clean_session = true;
-  gint keep_alive = 60;
   gulong max_buffer_size = 0;
   gint num_buffers = -1;
-  gint qos = 0;
   bool ntp_sync = false;
   std::string ntp_servers = mq::kDefaultNtpServers;
 };
@@ -77,19 +71,12 @@ struct SinkPriv {
   std::atomic<uint64_t> dropped{0};
 };
 
+// debug, client-id, host, port, cleansession, keep-alive-interval, mqtt-qos: mq::CommonProp.
 enum {
-  PROP_0,
-  PROP_DEBUG,
-  PROP_CLIENT_ID,
-  PROP_HOST,
-  PROP_PORT,
-  PROP_PUB_TOPIC,
+  PROP_PUB_TOPIC = mq::kPropFirstOwn,
   PROP_PUB_WAIT_TIMEOUT,
-  PROP_CLEANSESSION,
-  PROP_KEEP_ALIVE,
   PROP_MAX_BUFFER_SIZE,
   PROP_NUM_BUFFERS,
-  PROP_QOS,
   PROP_NTP_SYNC,
   PROP_NTP_SRVS,
 };
@@ -116,34 +103,13 @@ static void gst_mqtt_sink_set_property(GObject *object, guint id, const GValue *
   auto *p = GST_MQTT_SINK(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
   Settings &s = p->settings;
-  auto str = [&] {
-    const gchar *v = g_value_get_string(value);
-    return std::string(v ? v : "");
-  };
+  if (mq::set_common_property(s, id, value)) return;
   switch (id) {
-    case PROP_DEBUG:
-      s.debug = g_value_get_boolean(value);
-      break;
-    case PROP_CLIENT_ID:
-      s.client_id = str();
-      break;
-    case PROP_HOST:
-      s.host = str();
-      break;
-    case PROP_PORT:
-      s.port = str();
-      break;
     case PROP_PUB_TOPIC:
-      s.topic = str();
+      s.topic = mq::string_value(value);
       break;
     case PROP_PUB_WAIT_TIMEOUT:
       s.pub_wait_timeout = g_value_get_ulong(value);
-      break;
-    case PROP_CLEANSESSION:
-      s.clean_session = g_value_get_boolean(value);
-      break;
-    case PROP_KEEP_ALIVE:
-      s.keep_alive = g_value_get_int(value);
       break;
     case PROP_MAX_BUFFER_SIZE:
       s.max_buffer_size = g_value_get_ulong(value);
@@ -151,14 +117,11 @@ static void gst_mqtt_sink_set_property(GObject *object, guint id, const GValue *
     case PROP_NUM_BUFFERS:
       s.num_buffers = g_value_get_int(value);
       break;
-    case PROP_QOS:
-      s.qos = g_value_get_int(value);
-      break;
     case PROP_NTP_SYNC:
       s.ntp_sync = g_value_get_boolean(value);
       break;
     case PROP_NTP_SRVS:
-      s.ntp_servers = str();
+      s.ntp_servers = mq::string_value(value);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -170,39 +133,19 @@ static void gst_mqtt_sink_get_property(GObject *object, guint id, GValue *value,
   auto *p = GST_MQTT_SINK(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
   const Settings &s = p->settings;
+  if (mq::get_common_property(s, id, value)) return;
   switch (id) {
-    case PROP_DEBUG:
-      g_value_set_boolean(value, s.debug);
-      break;
-    case PROP_CLIENT_ID:
-      g_value_set_string(value, s.client_id.c_str());
-      break;
-    case PROP_HOST:
-      g_value_set_string(value, s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_string(value, s.port.c_str());
-      break;
     case PROP_PUB_TOPIC:
       g_value_set_string(value, s.topic.c_str());
       break;
     case PROP_PUB_WAIT_TIMEOUT:
       g_value_set_ulong(value, s.pub_wait_timeout);
       break;
-    case PROP_CLEANSESSION:
-      g_value_set_boolean(value, s.clean_session);
-      break;
-    case PROP_KEEP_ALIVE:
-      g_value_set_int(value, s.keep_alive);
-      break;
     case PROP_MAX_BUFFER_SIZE:
       g_value_set_ulong(value, s.max_buffer_size);
       break;
     case PROP_NUM_BUFFERS:
       g_value_set_int(value, s.num_buffers);
-      break;
-    case PROP_QOS:
-      g_value_set_int(value, s.qos);
       break;
     case PROP_NTP_SYNC:
       g_value_set_boolean(value, s.ntp_sync);
@@ -223,8 +166,7 @@ static gboolean mqtt_sink_start(GstBaseSink *sink) {
       p->run = p->settings;
     }
     Settings &s = p->run;
-    const int port = mq::parse_port(s.port);
-    if (s.client_id == mq::kSinkDefaultClientId) s.client_id = mq::generated_client_id("sink");
+    const nns::mqtt::ClientOptions o = mq::client_options(s, mq::kSinkRole);
     if (s.topic == mq::kDefaultPubTopic) s.topic = s.client_id + "/topic";
     if (s.topic.empty()) nns::fail(nns::ErrorKind::kSettings, "pub-topic is empty");
     p->remaining = s.num_buffers;
@@ -235,29 +177,20 @@ static gboolean mqtt_sink_start(GstBaseSink *sink) {
     p->base_time = GST_CLOCK_TIME_NONE;
     p->base_epoch = real_time_ns();
     p->epoch_offset_ns = 0;
-    nns::mqtt::ClientOptions o{s.host, port, s.client_id, s.keep_alive, s.clean_session};
     GstElement *self = GST_ELEMENT(sink);
     p->client =
         std::make_unique<nns::mqtt::Client>(o, nullptr, [self, p](bool up, const std::string &why) {
           if (!up) {
             p->link_down = true;
-            NNS_POST_WARNING(self, "connection to the MQTT broker " + p->run.host + ":" +
-                                       p->run.port + " lost (" + why + "); reconnecting");
+            NNS_POST_WARNING(self, "connection to the MQTT broker " + mq::broker_name(p->run) +
+                                       " lost (" + why + "); reconnecting");
           } else if (p->link_down.exchange(false)) {
-            NNS_POST_WARNING(self, "reconnected to the MQTT broker " + p->run.host + ":" +
-                                       p->run.port + "; " + std::to_string(p->dropped.load()) +
+            NNS_POST_WARNING(self, "reconnected to the MQTT broker " + mq::broker_name(p->run) +
+                                       "; " + std::to_string(p->dropped.load()) +
                                        " buffers dropped so far while it was unreachable");
           }
         });
-    p->client->start();
-    if (!p->client->wait_connected(std::chrono::seconds(mq::kConnectTimeoutSec))) {
-      const std::string why = p->client->why();
-      p->client.reset();
-      nns::fail(nns::ErrorKind::kSettings,
-                "cannot connect to the MQTT broker " + s.host + ":" + s.port + " within " +
-                    std::to_string(mq::kConnectTimeoutSec) + " s (host/port properties)" +
-                    (why.empty() ? "" : ": " + why));
-    }
+    mq::connect_or_fail(p->client, s, "");
     return TRUE;
   });
 }
@@ -381,7 +314,7 @@ static GstFlowReturn mqtt_sink_render(GstBaseSink *sink, GstBuffer *buf) {
       if (p->flushing) return GST_FLOW_FLUSHING;
       const uint64_t d = ++p->dropped;
       if (!p->down_reported.exchange(true))
-        NNS_POST_WARNING(sink, "MQTT broker " + s.host + ":" + s.port + " unreachable (" +
+        NNS_POST_WARNING(sink, "MQTT broker " + mq::broker_name(s) + " unreachable (" +
                                    p->client->why() + "); dropping buffers until it is back");
       GST_DEBUG_OBJECT(sink, "dropped buffer %" G_GUINT64_FORMAT " on %s", d, s.topic.c_str());
       return GST_FLOW_OK;
@@ -424,23 +357,8 @@ static void gst_mqtt_sink_class_init(GstMqttSinkClass *klass) {
   gobject_class->set_property = gst_mqtt_sink_set_property;
   gobject_class->get_property = gst_mqtt_sink_get_property;
   gobject_class->finalize = gst_mqtt_sink_finalize;
+  mq::install_common_properties(gobject_class, mq::kSinkRole);
   const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject_class, PROP_DEBUG,
-      g_param_spec_boolean("debug", "Debug", "Produce extra verbose output for debug purpose",
-                           FALSE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CLIENT_ID,
-      g_param_spec_string("client-id", "Client ID",
-                          "The client identifier passed to the server (broker).",
-                          mq::kSinkDefaultClientId, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_HOST,
-      g_param_spec_string("host", "Host", "Host (broker) to connect to", mq::kDefaultHost, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_PORT,
-      g_param_spec_string("port", "Port", "Network port of host (broker) to connect to",
-                          mq::kDefaultPort, rw));
   g_object_class_install_property(
       gobject_class, PROP_NTP_SYNC,
       g_param_spec_boolean("ntp-sync", "NTP Synchronization",
@@ -463,18 +381,6 @@ static void gst_mqtt_sink_class_init(GstMqttSinkClass *klass) {
                          "of a message",
                          1UL, G_MAXULONG, 1UL, rw));
   g_object_class_install_property(
-      gobject_class, PROP_CLEANSESSION,
-      g_param_spec_boolean("cleansession", "Cleansession",
-                           "When it is TRUE, the state information is discarded at connect and "
-                           "disconnect.",
-                           TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_KEEP_ALIVE,
-      g_param_spec_int("keep-alive-interval", "Keep Alive Interval",
-                       "The maximum time (in seconds) that should pass without communication "
-                       "between the client and the server (broker)",
-                       1, G_MAXINT32, 60, rw));
-  g_object_class_install_property(
       gobject_class, PROP_MAX_BUFFER_SIZE,
       g_param_spec_ulong("max-buffer-size", "The maximum size of a message buffer",
                          "The maximum size in bytes of a message buffer (0 = dynamic buffer "
@@ -486,12 +392,6 @@ static void gst_mqtt_sink_class_init(GstMqttSinkClass *klass) {
                        "Number of (remaining) buffers to accept until sending EOS event (-1 = "
                        "no limit)",
                        -1, G_MAXINT32, -1, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_QOS,
-      g_param_spec_int("mqtt-qos", "mqtt QoS level",
-                       "The QoS level of MQTT.\n\t\t\t  0: At most once\n\t\t\t  1: At least "
-                       "once\n\t\t\t  2: Exactly once",
-                       0, 2, 0, rw));
   element_class->change_state = mqtt_sink_change_state;
   sink_class->start = mqtt_sink_start;
   sink_class->stop = mqtt_sink_stop;

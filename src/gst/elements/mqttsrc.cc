@@ -45,17 +45,11 @@ namespace {
 
 namespace mq = nns::gst::mqtt;
 
-struct Settings {
-  bool debug = false;
+struct Settings : mq::CommonSettings {
+  Settings() : mq::CommonSettings(mq::kSrcRole) {}
   bool is_live = true;
-  std::string client_id = mq::kSrcDefaultClientId;
-  std::string host = mq::kDefaultHost;
-  std::string port = mq::kDefaultPort;
   std::string topic;
   gint64 sub_timeout = 10000000;  // us
-  bool clean_session = true;
-  gint keep_alive = 60;
-  gint qos = 2;
 };
 
 struct Item {
@@ -81,18 +75,11 @@ struct SrcPriv {
   uint64_t dumped = 0;
 };
 
+// debug, client-id, host, port, cleansession, keep-alive-interval, mqtt-qos: mq::CommonProp.
 enum {
-  PROP_0,
-  PROP_DEBUG,
-  PROP_IS_LIVE,
-  PROP_CLIENT_ID,
-  PROP_HOST,
-  PROP_PORT,
+  PROP_IS_LIVE = mq::kPropFirstOwn,
   PROP_SUB_TOPIC,
   PROP_SUB_TIMEOUT,
-  PROP_CLEANSESSION,
-  PROP_KEEP_ALIVE,
-  PROP_QOS,
 };
 
 }  // namespace
@@ -114,41 +101,17 @@ static void gst_mqtt_src_set_property(GObject *object, guint id, const GValue *v
   auto *p = self->priv;
   std::lock_guard<std::mutex> l(p->lock);
   Settings &s = p->settings;
-  auto str = [&] {
-    const gchar *v = g_value_get_string(value);
-    return std::string(v ? v : "");
-  };
+  if (mq::set_common_property(s, id, value)) return;
   switch (id) {
-    case PROP_DEBUG:
-      s.debug = g_value_get_boolean(value);
-      break;
     case PROP_IS_LIVE:
       s.is_live = g_value_get_boolean(value);
       gst_base_src_set_live(GST_BASE_SRC(self), s.is_live);
       break;
-    case PROP_CLIENT_ID:
-      s.client_id = str();
-      break;
-    case PROP_HOST:
-      s.host = str();
-      break;
-    case PROP_PORT:
-      s.port = str();
-      break;
     case PROP_SUB_TOPIC:
-      s.topic = str();
+      s.topic = mq::string_value(value);
       break;
     case PROP_SUB_TIMEOUT:
       s.sub_timeout = g_value_get_int64(value);
-      break;
-    case PROP_CLEANSESSION:
-      s.clean_session = g_value_get_boolean(value);
-      break;
-    case PROP_KEEP_ALIVE:
-      s.keep_alive = g_value_get_int(value);
-      break;
-    case PROP_QOS:
-      s.qos = g_value_get_int(value);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -159,36 +122,16 @@ static void gst_mqtt_src_get_property(GObject *object, guint id, GValue *value, 
   auto *p = GST_MQTT_SRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
   const Settings &s = p->settings;
+  if (mq::get_common_property(s, id, value)) return;
   switch (id) {
-    case PROP_DEBUG:
-      g_value_set_boolean(value, s.debug);
-      break;
     case PROP_IS_LIVE:
       g_value_set_boolean(value, s.is_live);
-      break;
-    case PROP_CLIENT_ID:
-      g_value_set_string(value, s.client_id.c_str());
-      break;
-    case PROP_HOST:
-      g_value_set_string(value, s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_string(value, s.port.c_str());
       break;
     case PROP_SUB_TOPIC:
       g_value_set_string(value, s.topic.empty() ? nullptr : s.topic.c_str());
       break;
     case PROP_SUB_TIMEOUT:
       g_value_set_int64(value, s.sub_timeout);
-      break;
-    case PROP_CLEANSESSION:
-      g_value_set_boolean(value, s.clean_session);
-      break;
-    case PROP_KEEP_ALIVE:
-      g_value_set_int(value, s.keep_alive);
-      break;
-    case PROP_QOS:
-      g_value_set_int(value, s.qos);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -258,9 +201,7 @@ static gboolean mqtt_src_start(GstBaseSrc *src) {
     Settings &s = p->run;
     if (s.topic.empty())
       nns::fail(nns::ErrorKind::kSettings, "sub-topic is required (the topic to subscribe to)");
-    const int port = mq::parse_port(s.port);
-    if (s.client_id == mq::kSrcDefaultClientId) s.client_id = mq::generated_client_id("src");
-    nns::mqtt::ClientOptions o{s.host, port, s.client_id, s.keep_alive, s.clean_session};
+    const nns::mqtt::ClientOptions o = mq::client_options(s, mq::kSrcRole);
     GstElement *elem = GST_ELEMENT(src);
     p->client = std::make_unique<nns::mqtt::Client>(
         o,
@@ -269,24 +210,14 @@ static gboolean mqtt_src_start(GstBaseSrc *src) {
         },
         [elem, p](bool up, const std::string &why) {
           if (up)
-            NNS_POST_WARNING(elem, "reconnected to the MQTT broker " + p->run.host + ":" +
-                                       p->run.port + "; subscribing to '" + p->run.topic +
-                                       "' again");
+            NNS_POST_WARNING(elem, "reconnected to the MQTT broker " + mq::broker_name(p->run) +
+                                       "; subscribing to '" + p->run.topic + "' again");
           else
-            NNS_POST_WARNING(elem, "connection to the MQTT broker " + p->run.host + ":" +
-                                       p->run.port + " lost (" + why + "); reconnecting");
+            NNS_POST_WARNING(elem, "connection to the MQTT broker " + mq::broker_name(p->run) +
+                                       " lost (" + why + "); reconnecting");
         });
     p->client->subscribe(s.topic, s.qos);
-    p->client->start();
-    if (!p->client->wait_connected(std::chrono::seconds(mq::kConnectTimeoutSec))) {
-      const std::string why = p->client->why();
-      p->client.reset();
-      nns::fail(nns::ErrorKind::kSettings,
-                "cannot connect to the MQTT broker " + s.host + ":" + s.port +
-                    " and subscribe to '" + s.topic + "' within " +
-                    std::to_string(mq::kConnectTimeoutSec) + " s (host/port properties)" +
-                    (why.empty() ? "" : ": " + why));
-    }
+    mq::connect_or_fail(p->client, s, " and subscribe to '" + s.topic + "'");
     return TRUE;
   });
 }
@@ -362,13 +293,13 @@ static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer 
         if (p->flushing) return GST_FLOW_FLUSHING;
         if (!p->error.empty()) nns::fail(nns::ErrorKind::kStream, p->error);
         if (!got)
-          nns::fail(nns::ErrorKind::kStream,
-                    "no message on topic '" + p->run.topic + "' within sub-timeout (" +
-                        std::to_string(p->run.sub_timeout) + " us)" +
-                        (p->client && !p->client->connected()
-                             ? "; the broker " + p->run.host + ":" + p->run.port +
-                                   " is unreachable: " + p->client->why()
-                             : ""));
+          nns::fail(nns::ErrorKind::kStream, "no message on topic '" + p->run.topic +
+                                                 "' within sub-timeout (" +
+                                                 std::to_string(p->run.sub_timeout) + " us)" +
+                                                 (p->client && !p->client->connected()
+                                                      ? "; the broker " + mq::broker_name(p->run) +
+                                                            " is unreachable: " + p->client->why()
+                                                      : ""));
         item = std::move(p->queue.front());
         p->queue.pop_front();
       }
@@ -462,29 +393,14 @@ static void gst_mqtt_src_class_init(GstMqttSrcClass *klass) {
   gobject_class->set_property = gst_mqtt_src_set_property;
   gobject_class->get_property = gst_mqtt_src_get_property;
   gobject_class->finalize = gst_mqtt_src_finalize;
+  mq::install_common_properties(gobject_class, mq::kSrcRole);
   const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject_class, PROP_DEBUG,
-      g_param_spec_boolean("debug", "Debug", "Produce extra verbose output for debug purpose",
-                           FALSE, rw));
   g_object_class_install_property(
       gobject_class, PROP_IS_LIVE,
       g_param_spec_boolean("is-live", "Is Live",
                            "Synchronize the incoming buffers' timestamp with the current running "
                            "time",
                            TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CLIENT_ID,
-      g_param_spec_string("client-id", "Client ID",
-                          "The client identifier passed to the server (broker)",
-                          mq::kSrcDefaultClientId, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_HOST,
-      g_param_spec_string("host", "Host", "Host (broker) to connect to", mq::kDefaultHost, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_PORT,
-      g_param_spec_string("port", "Port", "Network port of host (broker) to connect to",
-                          mq::kDefaultPort, rw));
   g_object_class_install_property(
       gobject_class, PROP_SUB_TIMEOUT,
       g_param_spec_int64("sub-timeout", "Timeout for receiving a message",
@@ -495,24 +411,6 @@ static void gst_mqtt_src_class_init(GstMqttSrcClass *klass) {
       gobject_class, PROP_SUB_TOPIC,
       g_param_spec_string("sub-topic", "Topic to Subscribe (mandatory)",
                           "The topic's name to subscribe", nullptr, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_CLEANSESSION,
-      g_param_spec_boolean("cleansession", "Cleansession",
-                           "When it is TRUE, the state information is discarded at connect and "
-                           "disconnect.",
-                           TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_KEEP_ALIVE,
-      g_param_spec_int("keep-alive-interval", "Keep Alive Interval",
-                       "The maximum time (in seconds) that should pass without communication "
-                       "between the client and the server (broker)",
-                       1, G_MAXINT32, 60, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_QOS,
-      g_param_spec_int("mqtt-qos", "mqtt QoS level",
-                       "The QoS level of MQTT.\n\t\t\t  0: At most once\n\t\t\t  1: At least "
-                       "once\n\t\t\t  2: Exactly once",
-                       0, 2, 2, rw));
   element_class->change_state = mqtt_src_change_state;
   src_class->start = mqtt_src_start;
   src_class->stop = mqtt_src_stop;

@@ -33,26 +33,15 @@ namespace {
 
 namespace gg = nns::gst::grpc;
 
-struct Settings {
-  bool server = false;
-  bool blocking = true;
-  std::string idl = gg::kDefaultIdl;
-  std::string host = gg::kDefaultHost;
-  int port = gg::kDefaultPort;
-  bool silent = true;
-};
-
 struct SinkPriv {
   std::mutex lock;  // guards settings
-  Settings settings;
+  gg::Settings settings{gg::kSinkRole};
   std::unique_ptr<nns::grpclink::Link> link;
   nns::TensorsConfig config;
   std::atomic<guint> out{0};
   std::mutex err_lock;
   std::string error;  // the stream ended badly (worker thread)
 };
-
-enum { PROP_0, PROP_SERVER, PROP_BLOCKING, PROP_IDL, PROP_HOST, PROP_PORT, PROP_OUT, PROP_SILENT };
 
 }  // namespace
 
@@ -72,67 +61,22 @@ static void gst_tensor_sink_grpc_set_property(GObject *object, guint id, const G
                                               GParamSpec *pspec) {
   auto *p = GST_TENSOR_SINK_GRPC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  Settings &s = p->settings;
-  switch (id) {
-    case PROP_SERVER:
-      s.server = g_value_get_boolean(value);
-      break;
-    case PROP_BLOCKING:
-      s.blocking = g_value_get_boolean(value);
-      break;
-    case PROP_IDL:
-      s.idl = g_value_get_string(value) ? g_value_get_string(value) : "";
-      break;
-    case PROP_HOST:
-      s.host = g_value_get_string(value) ? g_value_get_string(value) : "";
-      break;
-    case PROP_PORT:
-      s.port = g_value_get_int(value);
-      break;
-    case PROP_SILENT:
-      s.silent = g_value_get_boolean(value);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!gg::set_property(p->settings, id, value))
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static void gst_tensor_sink_grpc_get_property(GObject *object, guint id, GValue *value,
                                               GParamSpec *pspec) {
   auto *p = GST_TENSOR_SINK_GRPC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  const Settings &s = p->settings;
-  switch (id) {
-    case PROP_SERVER:
-      g_value_set_boolean(value, s.server);
-      break;
-    case PROP_BLOCKING:
-      g_value_set_boolean(value, s.blocking);
-      break;
-    case PROP_IDL:
-      g_value_set_string(value, s.idl.c_str());
-      break;
-    case PROP_HOST:
-      g_value_set_string(value, s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_int(value, s.port);
-      break;
-    case PROP_OUT:
-      g_value_set_uint(value, p->out);
-      break;
-    case PROP_SILENT:
-      g_value_set_boolean(value, s.silent);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!gg::get_property(p->settings, p->out, id, value))
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static gboolean sink_grpc_start(GstBaseSink *sink) {
   return nns::gst::guard(sink, FALSE, [&]() -> gboolean {
     auto *p = GST_TENSOR_SINK_GRPC(sink)->priv;
-    Settings s;
+    gg::Settings s{gg::kSinkRole};
     {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->settings;
@@ -142,12 +86,7 @@ static gboolean sink_grpc_start(GstBaseSink *sink) {
       std::lock_guard<std::mutex> l(p->err_lock);
       p->error.clear();
     }
-    nns::grpclink::LinkOptions o;
-    o.role = s.server ? nns::grpclink::Role::kServer : nns::grpclink::Role::kClient;
-    o.direction = nns::grpclink::Direction::kSend;
-    o.idl = gg::parse_idl(s.idl);
-    o.host = s.host;
-    o.port = s.port;
+    const nns::grpclink::LinkOptions o = gg::link_options(s, nns::grpclink::Direction::kSend);
     GstElement *self = GST_ELEMENT(sink);
     p->link = std::make_unique<nns::grpclink::Link>(
         o, nullptr, [self, p](bool ok, const std::string &why) {
@@ -159,10 +98,7 @@ static gboolean sink_grpc_start(GstBaseSink *sink) {
           NNS_POST_ERROR(self, nns::ErrorKind::kStream, why);
         });
     p->link->start();
-    if (s.server) {
-      std::lock_guard<std::mutex> l(p->lock);
-      p->settings.port = p->link->bound_port();  // port=0: the one picked
-    }
+    if (s.server) gg::record_bound_port(p->lock, p->settings, *p->link);
     return TRUE;
   });
 }
@@ -277,35 +213,7 @@ static void gst_tensor_sink_grpc_class_init(GstTensorSinkGRPCClass *klass) {
   gobject_class->set_property = gst_tensor_sink_grpc_set_property;
   gobject_class->get_property = gst_tensor_sink_grpc_get_property;
   gobject_class->finalize = gst_tensor_sink_grpc_finalize;
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject_class, PROP_SILENT,
-      g_param_spec_boolean("silent", "Silent", "Dont' produce verbose output", TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_SERVER,
-      g_param_spec_boolean("server", "Server", "Specify its working mode either server or client",
-                           FALSE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_BLOCKING,
-      g_param_spec_boolean("blocking", "Blocking",
-                           "Specify its working mode either blocking or non-blocking", TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_IDL,
-      g_param_spec_string("idl", "IDL",
-                          "Specify Interface Description Language (IDL) for communication",
-                          gg::kDefaultIdl, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_HOST,
-      g_param_spec_string("host", "Host", "The host/IP to send the packets to", gg::kDefaultHost,
-                          rw));
-  g_object_class_install_property(
-      gobject_class, PROP_PORT,
-      g_param_spec_int("port", "Port", "The port to send the packets to", 0, G_MAXUINT16,
-                       gg::kDefaultPort, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_OUT,
-      g_param_spec_uint("out", "Out", "The number of output messages generated", 0, G_MAXUINT, 0,
-                        static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  gg::install_properties(gobject_class, gg::kSinkRole);
   sink_class->start = sink_grpc_start;
   sink_class->stop = sink_grpc_stop;
   sink_class->unlock = sink_grpc_unlock;

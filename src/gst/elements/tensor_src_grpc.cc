@@ -38,19 +38,10 @@ namespace gg = nns::gst::grpc;
 
 constexpr std::size_t kQueueLimit = 32;
 
-struct Settings {
-  bool server = true;
-  bool blocking = true;
-  std::string idl = gg::kDefaultIdl;
-  std::string host = gg::kDefaultHost;
-  int port = gg::kDefaultPort;
-  bool silent = true;
-};
-
 struct SrcPriv {
   std::mutex lock;  // guards everything below but `out`
   std::condition_variable cv;
-  Settings settings;
+  gg::Settings settings{gg::kSrcRole};
   std::unique_ptr<nns::grpclink::Link> link;
   std::deque<nns::grpclink::Frame> queue;
   bool flushing = false;
@@ -61,8 +52,6 @@ struct SrcPriv {
   bool eos_next = false;      // framerate 0/1: EOS after this frame (upstream)
   std::atomic<guint> out{0};
 };
-
-enum { PROP_0, PROP_SERVER, PROP_BLOCKING, PROP_IDL, PROP_HOST, PROP_PORT, PROP_OUT, PROP_SILENT };
 
 }  // namespace
 
@@ -82,67 +71,22 @@ static void gst_tensor_src_grpc_set_property(GObject *object, guint id, const GV
                                              GParamSpec *pspec) {
   auto *p = GST_TENSOR_SRC_GRPC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  Settings &s = p->settings;
-  switch (id) {
-    case PROP_SERVER:
-      s.server = g_value_get_boolean(value);
-      break;
-    case PROP_BLOCKING:
-      s.blocking = g_value_get_boolean(value);
-      break;
-    case PROP_IDL:
-      s.idl = g_value_get_string(value) ? g_value_get_string(value) : "";
-      break;
-    case PROP_HOST:
-      s.host = g_value_get_string(value) ? g_value_get_string(value) : "";
-      break;
-    case PROP_PORT:
-      s.port = g_value_get_int(value);
-      break;
-    case PROP_SILENT:
-      s.silent = g_value_get_boolean(value);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!gg::set_property(p->settings, id, value))
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static void gst_tensor_src_grpc_get_property(GObject *object, guint id, GValue *value,
                                              GParamSpec *pspec) {
   auto *p = GST_TENSOR_SRC_GRPC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  const Settings &s = p->settings;
-  switch (id) {
-    case PROP_SERVER:
-      g_value_set_boolean(value, s.server);
-      break;
-    case PROP_BLOCKING:
-      g_value_set_boolean(value, s.blocking);
-      break;
-    case PROP_IDL:
-      g_value_set_string(value, s.idl.c_str());
-      break;
-    case PROP_HOST:
-      g_value_set_string(value, s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_int(value, s.port);
-      break;
-    case PROP_OUT:
-      g_value_set_uint(value, p->out);
-      break;
-    case PROP_SILENT:
-      g_value_set_boolean(value, s.silent);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!gg::get_property(p->settings, p->out, id, value))
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static gboolean src_grpc_start(GstBaseSrc *src) {
   return nns::gst::guard(src, FALSE, [&]() -> gboolean {
     auto *p = GST_TENSOR_SRC_GRPC(src)->priv;
-    Settings s;
+    gg::Settings s{gg::kSrcRole};
     {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->settings;
@@ -155,12 +99,7 @@ static gboolean src_grpc_start(GstBaseSrc *src) {
       p->eos_next = false;
     }
     p->out = 0;
-    nns::grpclink::LinkOptions o;
-    o.role = s.server ? nns::grpclink::Role::kServer : nns::grpclink::Role::kClient;
-    o.direction = nns::grpclink::Direction::kReceive;
-    o.idl = gg::parse_idl(s.idl);
-    o.host = s.host;
-    o.port = s.port;
+    const nns::grpclink::LinkOptions o = gg::link_options(s, nns::grpclink::Direction::kReceive);
     p->link = std::make_unique<nns::grpclink::Link>(
         o,
         [p](nns::grpclink::Frame &&f) {
@@ -179,10 +118,7 @@ static gboolean src_grpc_start(GstBaseSrc *src) {
           p->cv.notify_all();
         });
     p->link->start();
-    if (s.server) {
-      std::lock_guard<std::mutex> l(p->lock);
-      p->settings.port = p->link->bound_port();  // port=0: the one picked
-    }
+    if (s.server) gg::record_bound_port(p->lock, p->settings, *p->link);
     return TRUE;
   });
 }
@@ -302,35 +238,7 @@ static void gst_tensor_src_grpc_class_init(GstTensorSrcGRPCClass *klass) {
   gobject_class->set_property = gst_tensor_src_grpc_set_property;
   gobject_class->get_property = gst_tensor_src_grpc_get_property;
   gobject_class->finalize = gst_tensor_src_grpc_finalize;
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject_class, PROP_SILENT,
-      g_param_spec_boolean("silent", "Silent", "Dont' produce verbose output", TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_SERVER,
-      g_param_spec_boolean("server", "Server", "Specify its working mode either server or client",
-                           TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_BLOCKING,
-      g_param_spec_boolean("blocking", "Blocking",
-                           "Specify its working mode either blocking or non-blocking", TRUE, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_IDL,
-      g_param_spec_string("idl", "IDL",
-                          "Specify Interface Description Language (IDL) for communication",
-                          gg::kDefaultIdl, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_HOST,
-      g_param_spec_string("host", "Host", "The hostname to listen as or connect", gg::kDefaultHost,
-                          rw));
-  g_object_class_install_property(
-      gobject_class, PROP_PORT,
-      g_param_spec_int("port", "Port", "The port to listen to (0=random available port) or connect",
-                       0, G_MAXUINT16, gg::kDefaultPort, rw));
-  g_object_class_install_property(
-      gobject_class, PROP_OUT,
-      g_param_spec_uint("out", "Out", "The number of output buffers generated", 0, G_MAXUINT, 0,
-                        static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
+  gg::install_properties(gobject_class, gg::kSrcRole);
   basesrc_class->start = src_grpc_start;
   basesrc_class->stop = src_grpc_stop;
   basesrc_class->unlock = src_grpc_unlock;
