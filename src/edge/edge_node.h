@@ -2,8 +2,9 @@
 // The transport interface of the among-device elements. A ServerNode is the query server or
 // the publisher (edgesink); a ClientNode is the query client or the subscriber (edgesrc).
 // make_server()/make_client() pick the implementation for a connect type: TCP lives in
-// edge_tcp.cc, HYBRID (MQTT discovery + TCP) in edge_hybrid.cc; MQTT and CUSTOM are not there
-// yet (the factories throw a "not supported yet" nns::Error).
+// edge_tcp.cc, HYBRID (MQTT discovery + TCP) in edge_hybrid.cc, MQTT (publish/subscribe through
+// a broker, publisher and subscriber only) in edge_mqtt.cc; CUSTOM is not there yet (the
+// factories throw a "not supported yet" nns::Error).
 #pragma once
 
 #include <cstdint>
@@ -88,6 +89,11 @@ std::unique_ptr<ClientNode> make_client(ConnectType type, const NodeOptions &opt
 // HYBRID implementations (edge_hybrid.cc): MQTT discovery at dest-host:dest-port, TCP data.
 std::unique_ptr<ServerNode> make_hybrid_server(const NodeOptions &opts, NodeCallbacks cb);
 std::unique_ptr<ClientNode> make_hybrid_client(const NodeOptions &opts, NodeCallbacks cb);
+
+// MQTT implementations (edge_mqtt.cc): broker at dest-host:dest-port, Role kPublisher /
+// kSubscriber only.
+std::unique_ptr<ServerNode> make_mqtt_server(const NodeOptions &opts, NodeCallbacks cb);
+std::unique_ptr<ClientNode> make_mqtt_client(const NodeOptions &opts, NodeCallbacks cb);
 
 // TCP implementations (edge_tcp.cc).
 std::unique_ptr<ServerNode> make_tcp_server(const NodeOptions &opts, NodeCallbacks cb);

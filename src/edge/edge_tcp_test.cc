@@ -275,11 +275,11 @@ TEST(EdgeTcp, PublisherReachesEverySubscriber) {
 
 TEST(EdgeTcp, UnsupportedConnectTypesSaySo) {
   try {
-    make_server(ConnectType::kMqtt, NodeOptions{}, NodeCallbacks{});
+    make_server(ConnectType::kCustom, NodeOptions{}, NodeCallbacks{});
     FAIL();
   } catch (const nns::Error &e) {
     EXPECT_STREQ(e.what(),
-                 "connect-type MQTT is not supported yet (TCP and HYBRID are implemented)");
+                 "connect-type CUSTOM is not supported yet (TCP, HYBRID and MQTT are implemented)");
   }
   EXPECT_THROW(make_client(ConnectType::kCustom, NodeOptions{}, NodeCallbacks{}), nns::Error);
 }

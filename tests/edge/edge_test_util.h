@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -43,6 +44,16 @@ inline std::string slurp(const std::string &path) {
   return ss.str();
 }
 
+// A file in the test temp dir, removed when it goes out of scope unless the test failed.
+struct TempFile {
+  explicit TempFile(const std::string &stem)
+      : path(std::string(::testing::TempDir()) + stem + "_" + std::to_string(getpid())) {}
+  ~TempFile() {
+    if (!::testing::Test::HasFailure()) std::remove(path.c_str());
+  }
+  std::string path;
+};
+
 // A pipeline in another process; its bus warnings/errors go to log().
 class Child {
  public:
@@ -65,7 +76,11 @@ class Child {
     if (posix_spawn(&pid_, "/proc/self/exe", &fa, nullptr, argv, envp.data()) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&fa);
   }
-  ~Child() { kill_now(); }
+  // The log stays only when the test failed (it is what explains the failure).
+  ~Child() {
+    kill_now();
+    if (!::testing::Test::HasFailure()) std::remove(log_.c_str());
+  }
   bool wait_port(uint16_t port, std::chrono::milliseconds t = 10s) {
     const auto end = std::chrono::steady_clock::now() + t;
     while (std::chrono::steady_clock::now() < end) {

@@ -50,7 +50,8 @@ struct EdgeSinkPriv {
   std::mutex lock;
   Settings s;
   std::unique_ptr<nns::edge::ServerNode> node;
-  std::string caps;  // "@edge_sink_caps@..." once negotiated
+  std::string caps;       // "@edge_sink_caps@..." once negotiated
+  std::string caps_meta;  // connect-type MQTT: the caps, sent as "caps" metadata
   bool tensor_caps = false;
   std::mutex wlock;
   std::condition_variable wcv;
@@ -172,7 +173,7 @@ static gboolean edgesink_start(GstBaseSink *bsink) {
       s = p->s;
       p->caps.clear();
     }
-    nns::gst::require_tcp(s.connect_type);
+    nns::gst::require_pubsub_type(s.connect_type);
     nns::edge::NodeOptions o;
     o.role = nns::edge::Role::kPublisher;
     o.host = s.host;
@@ -224,7 +225,9 @@ static gboolean edgesink_unlock_stop(GstBaseSink *bsink) {
 static gboolean edgesink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
   auto *p = GST_EDGESINK(bsink)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  p->caps = "@edge_sink_caps@" + nns::gst::caps_to_string(caps);
+  const std::string cs = nns::gst::caps_to_string(caps);
+  p->caps = "@edge_sink_caps@" + cs;
+  p->caps_meta = p->s.connect_type == 1 ? cs : std::string();
   p->tensor_caps = nns::gst::is_tensor_caps(caps);
   return TRUE;
 }
@@ -235,25 +238,33 @@ static GstFlowReturn edgesink_render(GstBaseSink *bsink, GstBuffer *buf) {
     bool wait;
     guint64 timeout_ms;
     bool tensor;
+    std::string caps_meta;
+    bool mqtt;
     {
       std::lock_guard<std::mutex> l(p->lock);
       wait = p->s.wait_connection;
       timeout_ms = p->s.connection_timeout;
       tensor = p->tensor_caps;
+      caps_meta = p->caps_meta;
+      mqtt = p->s.connect_type == 1;
     }
     if (wait && p->node->client_count() == 0) {
+      // Polled in short slices too: an MQTT broker link coming back does not notify wcv.
       std::unique_lock<std::mutex> l(p->wlock);
       auto ready = [&] { return p->unlocked || p->node->client_count() > 0; };
-      if (timeout_ms == 0) {
-        p->wcv.wait(l, ready);
-      } else if (!p->wcv.wait_for(l, std::chrono::milliseconds(timeout_ms), ready)) {
-        nns::fail(nns::ErrorKind::kNotFound,
-                  "no edgesrc connected within connection-timeout=" + std::to_string(timeout_ms) +
-                      " ms (wait-connection=TRUE)");
+      const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+      while (!ready()) {
+        if (timeout_ms != 0 && std::chrono::steady_clock::now() >= end)
+          nns::fail(nns::ErrorKind::kNotFound,
+                    std::string(mqtt ? "no MQTT broker connection" : "no edgesrc connected") +
+                        " within connection-timeout=" + std::to_string(timeout_ms) +
+                        " ms (wait-connection=TRUE)");
+        p->wcv.wait_for(l, std::chrono::milliseconds(100));
       }
       if (p->unlocked) return GST_FLOW_FLUSHING;
     }
     nns::gst::FrameView view(buf, tensor);
+    if (!caps_meta.empty()) view.frame().meta.set("caps", caps_meta);
     if (p->node->broadcast(view.frame()) > 0)
       ++p->published;
     else

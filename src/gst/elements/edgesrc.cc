@@ -47,6 +47,7 @@ struct EdgeSrcPriv {
   Settings s;
   std::unique_ptr<nns::edge::ClientNode> node;
   std::string publisher_caps;  // edge_sink_caps of the publisher, if it announced them
+  std::string meta_caps;       // MQTT: the "caps" metadata last applied to the pad
   std::mutex qlock;
   std::condition_variable qcv;
   std::deque<nns::edge::Message> queue;
@@ -152,11 +153,12 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->s;
     }
-    nns::gst::require_tcp(s.connect_type);
+    nns::gst::require_pubsub_type(s.connect_type);
     {
       std::lock_guard<std::mutex> l(p->qlock);
       p->queue.clear();
       p->flushing = p->closed = p->clean = false;
+      p->meta_caps.clear();
     }
     nns::edge::NodeOptions o;
     o.role = nns::edge::Role::kSubscriber;
@@ -170,6 +172,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       p->queue.push_back(std::move(m));
       p->qcv.notify_all();
     };
+    cb.on_warning = [bsrc](const std::string &w) { NNS_POST_WARNING(bsrc, w); };
     cb.on_closed = [p](const std::string &why, nns::edge::CloseKind kind) {
       std::lock_guard<std::mutex> l(p->qlock);
       p->closed = true;
@@ -231,6 +234,24 @@ static gboolean edgesrc_unlock_stop(GstBaseSrc *bsrc) {
   return TRUE;
 }
 
+// connect-type MQTT has no capability exchange: our edgesink sends its caps as the "caps"
+// metadata of each message. They become the pad's caps unless downstream fixed others.
+static void apply_meta_caps(GstPushSrc *psrc, EdgeSrcPriv *p, const nns::edge::Message &m) {
+  const auto mc = m.meta.get("caps");
+  if (!mc || *mc == p->meta_caps) return;
+  GstPad *pad = GST_BASE_SRC_PAD(psrc);
+  nns::gst::CapsPtr cur(gst_pad_get_current_caps(pad));
+  if (cur && p->meta_caps.empty()) return;  // negotiated with downstream: keep those
+  nns::gst::CapsPtr caps(gst_caps_from_string(mc->c_str()));
+  if (!caps || !gst_caps_is_fixed(caps.get()))
+    nns::fail(nns::ErrorKind::kStream,
+              "the publisher's caps metadata '" + *mc + "' is not a fixed caps string");
+  if (!gst_base_src_set_caps(GST_BASE_SRC(psrc), caps.get()))
+    nns::fail(nns::ErrorKind::kNegotiation,
+              "downstream does not accept the publisher's caps " + *mc);
+  p->meta_caps = *mc;
+}
+
 static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
   return nns::gst::guard(psrc, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     auto *p = GST_EDGESRC(psrc)->priv;
@@ -246,6 +267,7 @@ static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
       m = std::move(p->queue.front());
       p->queue.pop_front();
     }
+    apply_meta_caps(psrc, p, m);
     nns::TensorsConfig cfg;
     const nns::TensorsConfig *cfgp = nullptr;
     // The tensor config only matters for packing more than 16 memories (not per frame else).
