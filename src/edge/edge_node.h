@@ -3,8 +3,8 @@
 // the publisher (edgesink); a ClientNode is the query client or the subscriber (edgesrc).
 // make_server()/make_client() pick the implementation for a connect type: TCP lives in
 // edge_tcp.cc, HYBRID (MQTT discovery + TCP) in edge_hybrid.cc, MQTT (publish/subscribe through
-// a broker, publisher and subscriber only) in edge_mqtt.cc; CUSTOM is not there yet (the
-// factories throw a "not supported yet" nns::Error).
+// a broker, publisher and subscriber only) in edge_mqtt.cc, CUSTOM (a connection library with
+// nnstreamer-edge's custom ABI, publisher and subscriber only) in edge_custom.cc.
 #pragma once
 
 #include <cstdint>
@@ -36,6 +36,7 @@ struct NodeOptions {
   std::string topic;
   Limits limits;
   int connect_timeout_ms = 5000;  // connecting and waiting for the handshake
+  std::string custom_lib;         // CUSTOM: the connection library (dlopen path)
 };
 
 struct NodeCallbacks {
@@ -94,6 +95,10 @@ std::unique_ptr<ClientNode> make_hybrid_client(const NodeOptions &opts, NodeCall
 // kSubscriber only.
 std::unique_ptr<ServerNode> make_mqtt_server(const NodeOptions &opts, NodeCallbacks cb);
 std::unique_ptr<ClientNode> make_mqtt_client(const NodeOptions &opts, NodeCallbacks cb);
+
+// CUSTOM implementations (edge_custom.cc): opts.custom_lib, Role kPublisher / kSubscriber.
+std::unique_ptr<ServerNode> make_custom_server(const NodeOptions &opts, NodeCallbacks cb);
+std::unique_ptr<ClientNode> make_custom_client(const NodeOptions &opts, NodeCallbacks cb);
 
 // TCP implementations (edge_tcp.cc).
 std::unique_ptr<ServerNode> make_tcp_server(const NodeOptions &opts, NodeCallbacks cb);

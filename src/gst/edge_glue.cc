@@ -82,14 +82,6 @@ GType edge_connect_type_get_type() {
   return type;
 }
 
-void require_pubsub_type(int connect_type) {
-  if (connect_type >= 0 && connect_type <= 2) return;  // TCP, MQTT, HYBRID
-  fail(ErrorKind::kSettings,
-       std::string("connect-type ") +
-           edge::connect_type_name(static_cast<edge::ConnectType>(connect_type)) +
-           " is not supported yet (TCP, MQTT and HYBRID are implemented in this build)");
-}
-
 void require_tcp(int connect_type) {
   if (connect_type == 0 || connect_type == 2) return;  // TCP, HYBRID
   fail(ErrorKind::kSettings,

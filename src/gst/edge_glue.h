@@ -39,8 +39,6 @@ GType query_connect_type_get_type();
 GType edge_connect_type_get_type();
 // Throws nns::Error(kSettings) "connect-type X is not supported yet ..." unless TCP or HYBRID.
 void require_tcp(int connect_type);
-// edgesrc / edgesink: TCP, MQTT and HYBRID; the same error for the others.
-void require_pubsub_type(int connect_type);
 
 // The memories of a buffer, mapped for reading, as an OutFrame (no copy). Tensor caps send
 // one memory per tensor (unpacking >16 tensors), other caps one per GstMemory.

@@ -173,7 +173,6 @@ static gboolean edgesink_start(GstBaseSink *bsink) {
       s = p->s;
       p->caps.clear();
     }
-    nns::gst::require_pubsub_type(s.connect_type);
     nns::edge::NodeOptions o;
     o.role = nns::edge::Role::kPublisher;
     o.host = s.host;
@@ -181,6 +180,7 @@ static gboolean edgesink_start(GstBaseSink *bsink) {
     o.dest_host = s.dest_host;  // HYBRID: the MQTT broker
     o.dest_port = static_cast<uint16_t>(s.dest_port);
     o.topic = s.topic;
+    o.custom_lib = s.custom_lib;
     nns::edge::NodeCallbacks cb;
     cb.caps = [p]() {
       std::lock_guard<std::mutex> l(p->lock);
@@ -227,7 +227,7 @@ static gboolean edgesink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
   std::lock_guard<std::mutex> l(p->lock);
   const std::string cs = nns::gst::caps_to_string(caps);
   p->caps = "@edge_sink_caps@" + cs;
-  p->caps_meta = p->s.connect_type == 1 ? cs : std::string();
+  p->caps_meta = p->s.connect_type == 1 || p->s.connect_type == 3 ? cs : std::string();
   p->tensor_caps = nns::gst::is_tensor_caps(caps);
   return TRUE;
 }

@@ -153,7 +153,6 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->s;
     }
-    nns::gst::require_pubsub_type(s.connect_type);
     {
       std::lock_guard<std::mutex> l(p->qlock);
       p->queue.clear();
@@ -165,6 +164,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
     o.dest_host = s.dest_host;
     o.dest_port = static_cast<uint16_t>(s.dest_port);
     o.topic = s.topic;
+    o.custom_lib = s.custom_lib;
     nns::edge::NodeCallbacks cb;
     cb.alloc = nns::gst::gst_memory_allocator();
     cb.on_data = [p](nns::edge::Message &&m) {
