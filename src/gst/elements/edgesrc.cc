@@ -19,6 +19,7 @@
 #include <mutex>
 
 #include "gst/edge_glue.h"
+#include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -33,18 +34,9 @@ G_END_DECLS
 
 namespace {
 
-struct Settings {
-  std::string dest_host = "localhost";
-  guint dest_port = 3000;
-  gint connect_type = 0;
-  std::string topic, custom_lib, host;
-  bool topic_set = false, custom_set = false, host_set = false;
-  guint port = 0;
-};
-
 struct EdgeSrcPriv {
   std::mutex lock;
-  Settings s;
+  nns::gst::ConnSettings s;
   std::unique_ptr<nns::edge::ClientNode> node;
   std::string publisher_caps;  // edge_sink_caps of the publisher, if it announced them
   std::string meta_caps;       // MQTT: the "caps" metadata last applied to the pad
@@ -55,16 +47,32 @@ struct EdgeSrcPriv {
   std::string closed_why;
 };
 
-enum {
-  PROP_0,
-  PROP_HOST,
-  PROP_PORT,
-  PROP_DEST_HOST,
-  PROP_DEST_PORT,
-  PROP_CONNECT_TYPE,
-  PROP_TOPIC,
-  PROP_CUSTOM_LIB,
-};
+enum { PROP_0, PROP_CONN_FIRST };
+
+// Upstream's edgesrc properties (host and port deprecated, without effect).
+const nns::gst::ConnPropTable &conn_props() {
+  using nns::gst::ConnProp;
+  static const nns::gst::ConnPropTable t(
+      PROP_CONN_FIRST,
+      {{ConnProp::kHost, "Host", "A self host address (DEPRECATED, has no effect).", nullptr, 0,
+        65535, true, true},
+       {ConnProp::kPort, "Port", "A self port number (DEPRECATED, has no effect).", nullptr, 0,
+        65535, false, true},
+       {ConnProp::kDestHost, "Destination Host",
+        "A host address of edgesink to receive the packets from edgesink", "localhost"},
+       {ConnProp::kDestPort, "Destination Port",
+        "A port of edgesink to receive the packets from edgesink", nullptr, 3000},
+       {ConnProp::kConnectType, "Connect Type",
+        "The connections type between edgesink and edgesrc.", nullptr, 0, 0, false, false,
+        nns::gst::edge_connect_type_get_type},
+       {ConnProp::kTopic, "Topic",
+        "The main topic of the host and option if necessary. "
+        "(topic)/(optional topic for main topic).",
+        nullptr, 0, 0, true},
+       {ConnProp::kCustomLib, "Custom connection lib path",
+        "User defined custom connection lib path.", nullptr, 0, 0, true}});
+  return t;
+}
 
 }  // namespace
 
@@ -83,72 +91,19 @@ static void edgesrc_set_property(GObject *object, guint id, const GValue *value,
                                  GParamSpec *pspec) {
   auto *p = GST_EDGESRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  const auto str = [&](std::string *dst, bool *set) {
-    const gchar *v = g_value_get_string(value);
-    if (set) *set = v != nullptr;
-    if (v || set) *dst = v ? v : "";
-  };
-  switch (id) {
-    case PROP_HOST:
-      str(&p->s.host, &p->s.host_set);
-      break;
-    case PROP_PORT:
-      p->s.port = g_value_get_uint(value);
-      break;
-    case PROP_DEST_HOST:
-      str(&p->s.dest_host, nullptr);
-      break;
-    case PROP_DEST_PORT:
-      p->s.dest_port = g_value_get_uint(value);
-      break;
-    case PROP_CONNECT_TYPE:
-      p->s.connect_type = g_value_get_enum(value);
-      break;
-    case PROP_TOPIC:
-      str(&p->s.topic, &p->s.topic_set);
-      break;
-    case PROP_CUSTOM_LIB:
-      str(&p->s.custom_lib, &p->s.custom_set);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!conn_props().set(id, value, &p->s)) G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static void edgesrc_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_EDGESRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  switch (id) {
-    case PROP_HOST:
-      g_value_set_string(value, p->s.host_set ? p->s.host.c_str() : nullptr);
-      break;
-    case PROP_PORT:
-      g_value_set_uint(value, p->s.port);
-      break;
-    case PROP_DEST_HOST:
-      g_value_set_string(value, p->s.dest_host.c_str());
-      break;
-    case PROP_DEST_PORT:
-      g_value_set_uint(value, p->s.dest_port);
-      break;
-    case PROP_CONNECT_TYPE:
-      g_value_set_enum(value, p->s.connect_type);
-      break;
-    case PROP_TOPIC:
-      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
-      break;
-    case PROP_CUSTOM_LIB:
-      g_value_set_string(value, p->s.custom_set ? p->s.custom_lib.c_str() : nullptr);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!conn_props().get(id, value, p->s)) G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static gboolean edgesrc_start(GstBaseSrc *bsrc) {
   return nns::gst::guard(bsrc, FALSE, [&]() -> gboolean {
     auto *p = GST_EDGESRC(bsrc)->priv;
-    Settings s;
+    nns::gst::ConnSettings s;
     {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->s;
@@ -159,12 +114,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       p->flushing = p->closed = p->clean = false;
       p->meta_caps.clear();
     }
-    nns::edge::NodeOptions o;
-    o.role = nns::edge::Role::kSubscriber;
-    o.dest_host = s.dest_host;
-    o.dest_port = static_cast<uint16_t>(s.dest_port);
-    o.topic = s.topic;
-    o.custom_lib = s.custom_lib;
+    nns::edge::NodeOptions o = s.node_options(nns::edge::Role::kSubscriber);
     nns::edge::NodeCallbacks cb;
     cb.alloc = nns::gst::gst_memory_allocator();
     cb.on_data = [p](nns::edge::Message &&m) {
@@ -180,8 +130,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       p->closed_why = why;
       p->qcv.notify_all();
     };
-    p->node = nns::edge::make_client(static_cast<nns::edge::ConnectType>(s.connect_type), o,
-                                     std::move(cb));
+    p->node = nns::edge::make_client(s.type(), o, std::move(cb));
     try {
       p->node->connect();
     } catch (const nns::Error &e) {
@@ -297,41 +246,7 @@ static void gst_edgesrc_class_init(GstEdgeSrcClass *klass) {
   gobject->set_property = edgesrc_set_property;
   gobject->get_property = edgesrc_get_property;
   gobject->finalize = edgesrc_finalize;
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  const auto deprecated = static_cast<GParamFlags>(rw | G_PARAM_DEPRECATED);
-  g_object_class_install_property(
-      gobject, PROP_HOST,
-      g_param_spec_string("host", "Host", "A self host address (DEPRECATED, has no effect).",
-                          nullptr, deprecated));
-  g_object_class_install_property(
-      gobject, PROP_PORT,
-      g_param_spec_uint("port", "Port", "A self port number (DEPRECATED, has no effect).", 0, 65535,
-                        0, deprecated));
-  g_object_class_install_property(
-      gobject, PROP_DEST_HOST,
-      g_param_spec_string("dest-host", "Destination Host",
-                          "A host address of edgesink to receive the packets from edgesink",
-                          "localhost", rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_PORT,
-      g_param_spec_uint("dest-port", "Destination Port",
-                        "A port of edgesink to receive the packets from edgesink", 0, 65535, 3000,
-                        rw));
-  g_object_class_install_property(
-      gobject, PROP_CONNECT_TYPE,
-      g_param_spec_enum("connect-type", "Connect Type",
-                        "The connections type between edgesink and edgesrc.",
-                        nns::gst::edge_connect_type_get_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_TOPIC,
-      g_param_spec_string("topic", "Topic",
-                          "The main topic of the host and option if necessary. "
-                          "(topic)/(optional topic for main topic).",
-                          nullptr, rw));
-  g_object_class_install_property(
-      gobject, PROP_CUSTOM_LIB,
-      g_param_spec_string("custom-lib", "Custom connection lib path",
-                          "User defined custom connection lib path.", nullptr, rw));
+  conn_props().install(gobject);
   gst_element_class_add_static_pad_template(element, &src_template);
   gst_element_class_set_static_metadata(element, "EdgeSrc", "Source/Edge",
                                         "Subscribe and push incoming streams", "nnstreamer-cpp");
@@ -346,6 +261,7 @@ static void gst_edgesrc_class_init(GstEdgeSrcClass *klass) {
 
 static void gst_edgesrc_init(GstEdgeSrc *self) {
   self->priv = new EdgeSrcPriv();
+  self->priv->s = conn_props().defaults();
   gst_base_src_set_format(GST_BASE_SRC(self), GST_FORMAT_TIME);
   gst_base_src_set_live(GST_BASE_SRC(self), TRUE);
 }
