@@ -217,17 +217,7 @@ static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
       p->queue.pop_front();
     }
     apply_meta_caps(psrc, p, m);
-    nns::TensorsConfig cfg;
-    const nns::TensorsConfig *cfgp = nullptr;
-    // The tensor config only matters for packing more than 16 memories (not per frame else).
-    nns::gst::CapsPtr caps(m.mems.size() > gst_buffer_get_max_memory()
-                               ? gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc))
-                               : nullptr);
-    if (caps && nns::gst::is_tensor_caps(caps.get())) {
-      cfg = nns::gst::config_from_caps(caps.get());
-      cfgp = &cfg;
-    }
-    *out = nns::gst::buffer_from_message(std::move(m), cfgp);
+    *out = nns::gst::buffer_from_message_for_pad(std::move(m), GST_BASE_SRC_PAD(psrc));
     return GST_FLOW_OK;
   });
 }

@@ -230,17 +230,7 @@ static GstFlowReturn serversrc_create(GstPushSrc *psrc, GstBuffer **out) {
     }
     const auto id_str = m.meta.get("client_id");
     const int64_t client_id = id_str ? g_ascii_strtoll(id_str->c_str(), nullptr, 10) : 0;
-    nns::TensorsConfig cfg;
-    const nns::TensorsConfig *cfgp = nullptr;
-    // The tensor config only matters for packing more than 16 memories (not per frame else).
-    nns::gst::CapsPtr caps(m.mems.size() > gst_buffer_get_max_memory()
-                               ? gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc))
-                               : nullptr);
-    if (caps && nns::gst::is_tensor_caps(caps.get())) {
-      cfg = nns::gst::config_from_caps(caps.get());
-      cfgp = &cfg;
-    }
-    GstBuffer *buf = nns::gst::buffer_from_message(std::move(m), cfgp);
+    GstBuffer *buf = nns::gst::buffer_from_message_for_pad(std::move(m), GST_BASE_SRC_PAD(psrc));
     nns::gst::buffer_add_meta_query(buf, client_id);
     ++p->received;
     *out = buf;
