@@ -174,3 +174,24 @@ TEST(EdgeCustom, LibraryErrorsNameTheLibrary) {
             std::string::npos)
       << r.error_text;
 }
+
+TEST(EdgeCustom, PublisherCapsRefineAPartialCapsfilter) {
+  const uint16_t port = free_port();
+  Sub sub(custom(port) + " ! video/x-raw,format=GRAY8");
+  ASSERT_NE(gst_element_set_state(sub.pipe, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+  Child pub(
+      "videotestsrc num-buffers=40 is-live=true ! "
+      "video/x-raw,format=GRAY8,width=4,height=4,framerate=50/1 ! edgesink sync=false " +
+          custom(port),
+      "custom_caps");
+  GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sub.sink), 5 * GST_SECOND);
+  ASSERT_TRUE(s) << pub.log();
+  gchar *c = gst_caps_to_string(gst_sample_get_caps(s));
+  EXPECT_EQ(std::string(c),
+            "video/x-raw, format=(string)GRAY8, width=(int)4, height=(int)4, "
+            "framerate=(fraction)50/1, multiview-mode=(string)mono, "
+            "pixel-aspect-ratio=(fraction)1/1, interlace-mode=(string)progressive");
+  g_free(c);
+  gst_sample_unref(s);
+  EXPECT_EQ(pub.wait_exit(), 0) << pub.log();
+}

@@ -183,18 +183,22 @@ static gboolean edgesrc_unlock_stop(GstBaseSrc *bsrc) {
   return TRUE;
 }
 
-// connect-type MQTT has no capability exchange: our edgesink sends its caps as the "caps"
-// metadata of each message. They become the pad's caps unless downstream fixed others.
+// connect-type MQTT and CUSTOM have no capability exchange: our edgesink sends its caps as the
+// "caps" metadata of each message. They become the pad's caps unless downstream fixed others
+// (a capsfilter naming only some fields takes the publisher's full caps).
 static void apply_meta_caps(GstPushSrc *psrc, EdgeSrcPriv *p, const nns::edge::Message &m) {
   const auto mc = m.meta.get("caps");
   if (!mc || *mc == p->meta_caps) return;
   GstPad *pad = GST_BASE_SRC_PAD(psrc);
   nns::gst::CapsPtr cur(gst_pad_get_current_caps(pad));
-  if (cur && p->meta_caps.empty()) return;  // negotiated with downstream: keep those
   nns::gst::CapsPtr caps(gst_caps_from_string(mc->c_str()));
   if (!caps || !gst_caps_is_fixed(caps.get()))
     nns::fail(nns::ErrorKind::kStream,
               "the publisher's caps metadata '" + *mc + "' is not a fixed caps string");
+  // Negotiated with downstream: keep those, unless the publisher's refine them.
+  if (cur && p->meta_caps.empty() &&
+      (gst_caps_is_equal(caps.get(), cur.get()) || !gst_caps_is_subset(caps.get(), cur.get())))
+    return;
   if (!gst_base_src_set_caps(GST_BASE_SRC(psrc), caps.get()))
     nns::fail(nns::ErrorKind::kNegotiation,
               "downstream does not accept the publisher's caps " + *mc);
