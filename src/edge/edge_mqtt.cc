@@ -36,11 +36,45 @@ std::string broker_name(const NodeOptions &o) {
   return o.dest_host + ":" + std::to_string(o.dest_port);
 }
 
-[[noreturn]] void broker_failed(const NodeOptions &o, const std::string &why) {
-  fail(ErrorKind::kNotFound, "connect-type MQTT: cannot connect to the MQTT broker " +
-                                 broker_name(o) + " (dest-host/dest-port)" +
-                                 (why.empty() ? "" : ": " + why));
-}
+// The broker connection of both roles: connects (MQTT 3.1.1, clean session), subscribes when
+// asked, waits up to connect_timeout_ms, and warns once each time the link drops (libmosquitto
+// reconnects by itself).
+class BrokerLink {
+ public:
+  BrokerLink(const NodeOptions &o, const NodeCallbacks &cb) : o_(o), cb_(cb) {}
+  void open(const std::string &client_id, const std::string &sub_topic,
+            mqtt::Client::OnMessage on_message, const char *meanwhile) {
+    mqtt::ClientOptions mo{o_.dest_host, o_.dest_port, client_id, 60, true};
+    client_ = std::make_unique<mqtt::Client>(
+        mo, std::move(on_message), [this, meanwhile](bool up, const std::string &why) {
+          if (up_.exchange(up) && !up && cb_.on_warning)
+            cb_.on_warning("connect-type MQTT: lost the MQTT broker " + broker_name(o_) +
+                           (why.empty() ? "" : " (" + why + ")") + "; reconnecting" + meanwhile);
+        });
+    if (!sub_topic.empty()) client_->subscribe(sub_topic, 1);
+    client_->start();
+    if (!client_->wait_connected(std::chrono::milliseconds(o_.connect_timeout_ms))) {
+      const std::string why = client_->why();
+      client_.reset();
+      fail(ErrorKind::kNotFound, "connect-type MQTT: cannot connect to the MQTT broker " +
+                                     broker_name(o_) + " (dest-host/dest-port)" +
+                                     (why.empty() ? "" : ": " + why));
+    }
+    up_ = true;
+  }
+  mqtt::Client *client() const { return client_.get(); }
+  bool connected() const { return client_ && client_->connected(); }
+  void close() {
+    if (client_) client_->stop();
+    client_.reset();
+  }
+
+ private:
+  const NodeOptions &o_;
+  const NodeCallbacks &cb_;
+  std::unique_ptr<mqtt::Client> client_;
+  std::atomic<bool> up_{false};
+};
 
 class MqttPublisher final : public ServerNode {
  public:
@@ -51,22 +85,8 @@ class MqttPublisher final : public ServerNode {
     require_topic(o_);
     const std::string id = std::to_string(new_client_id());
     topic_ = "edge/inference/device-" + id + "/" + o_.topic + "/";
-    mqtt::ClientOptions mo{o_.dest_host, o_.dest_port,
-                           "nns_edge_" + id + "_" + std::to_string(getpid()), 60, true};
-    mqtt_ = std::make_unique<mqtt::Client>(mo, nullptr, [this](bool up, const std::string &why) {
-      const bool was = up_.exchange(up);
-      if (was && !up && cb_.on_warning)
-        cb_.on_warning("connect-type MQTT: lost the MQTT broker " + broker_name(o_) +
-                       (why.empty() ? "" : " (" + why + ")") +
-                       "; reconnecting, buffers are dropped meanwhile");
-    });
-    mqtt_->start();
-    if (!mqtt_->wait_connected(std::chrono::milliseconds(o_.connect_timeout_ms))) {
-      const std::string why = mqtt_->why();
-      mqtt_.reset();
-      broker_failed(o_, why);
-    }
-    up_ = true;
+    link_.open("nns_edge_" + id + "_" + std::to_string(getpid()), "", nullptr,
+               ", buffers are dropped meanwhile");
   }
   uint16_t port() const override { return 0; }
   bool send_to(int64_t, const OutFrame &f, std::string *why) override {
@@ -75,28 +95,25 @@ class MqttPublisher final : public ServerNode {
     return false;
   }
   std::size_t broadcast(const OutFrame &f) override {
-    if (!mqtt_) return 0;
+    if (!link_.client()) return 0;
     const std::vector<uint8_t> bytes = serialize_data(f);
-    return mqtt_->publish(topic_, bytes.data(), bytes.size(), 1, true) ? 1 : 0;
+    return link_.client()->publish(topic_, bytes.data(), bytes.size(), 1, true) ? 1 : 0;
   }
   // The broker is our only peer: "connected" while the broker link is up.
-  std::size_t client_count() const override { return mqtt_ && mqtt_->connected() ? 1 : 0; }
+  std::size_t client_count() const override { return link_.connected() ? 1 : 0; }
   void stop() override {
-    if (!mqtt_) return;
-    if (mqtt_->connected()) {
-      mqtt_->publish(topic_, nullptr, 0, 1, true);  // clear the retained message
-      mqtt_->flush(std::chrono::milliseconds(1000));
+    if (link_.connected()) {
+      link_.client()->publish(topic_, nullptr, 0, 1, true);  // clear the retained message
+      link_.client()->flush(std::chrono::milliseconds(1000));
     }
-    mqtt_->stop();
-    mqtt_.reset();
+    link_.close();
   }
 
  private:
   NodeOptions o_;
   NodeCallbacks cb_;
-  std::unique_ptr<mqtt::Client> mqtt_;
+  BrokerLink link_{o_, cb_};
   std::string topic_;
-  std::atomic<bool> up_{false};
 };
 
 class MqttSubscriber final : public ClientNode {
@@ -108,32 +125,15 @@ class MqttSubscriber final : public ClientNode {
     require_topic(o_);
     disconnect();
     failed_ = false;
-    const std::string sub = "edge/inference/+/" + o_.topic + "/#";
-    mqtt::ClientOptions mo{
-        o_.dest_host, o_.dest_port,
-        "nns_edge_sub_" + std::to_string(new_client_id()) + "_" + std::to_string(getpid()), 60,
-        true};
-    mqtt_ = std::make_unique<mqtt::Client>(
-        mo,
+    link_.open(
+        "nns_edge_sub_" + std::to_string(new_client_id()) + "_" + std::to_string(getpid()),
+        "edge/inference/+/" + o_.topic + "/#",
         [this](const std::string &topic, const uint8_t *d, std::size_t n) {
           on_message(topic, d, n);
         },
-        [this](bool up, const std::string &why) {
-          const bool was = up_.exchange(up);
-          if (was && !up && cb_.on_warning)
-            cb_.on_warning("connect-type MQTT: lost the MQTT broker " + broker_name(o_) +
-                           (why.empty() ? "" : " (" + why + ")") + "; reconnecting");
-        });
-    mqtt_->subscribe(sub, 1);
-    mqtt_->start();
-    if (!mqtt_->wait_connected(std::chrono::milliseconds(o_.connect_timeout_ms))) {
-      const std::string why = mqtt_->why();
-      mqtt_.reset();
-      broker_failed(o_, why);
-    }
-    up_ = true;
+        "");
   }
-  bool connected() const override { return mqtt_ && mqtt_->connected(); }
+  bool connected() const override { return link_.connected(); }
   bool send(const OutFrame &, std::string *why) override {
     if (why) *why = "an MQTT subscriber does not send";
     return false;
@@ -143,18 +143,14 @@ class MqttSubscriber final : public ClientNode {
   std::string server_name() const override {
     return "topic '" + o_.topic + "' on the MQTT broker " + broker_name(o_);
   }
-  void disconnect() override {
-    if (mqtt_) mqtt_->stop();
-    mqtt_.reset();
-  }
+  void disconnect() override { link_.close(); }
 
  private:
   void on_message(const std::string &topic, const uint8_t *d, std::size_t n) {
     if (n == 0 || failed_) return;  // a publisher cleared its retained message
     Message m;
     std::string why;
-    Limits limits = o_.limits;
-    if (parse_data(d, n, limits, cb_.alloc, &m, &why)) {
+    if (parse_data(d, n, o_.limits, cb_.alloc, &m, &why)) {
       if (cb_.on_data) cb_.on_data(std::move(m));
       return;
     }
@@ -167,8 +163,8 @@ class MqttSubscriber final : public ClientNode {
 
   NodeOptions o_;
   NodeCallbacks cb_;
-  std::unique_ptr<mqtt::Client> mqtt_;
-  std::atomic<bool> up_{false}, failed_{false};
+  BrokerLink link_{o_, cb_};
+  std::atomic<bool> failed_{false};
 };
 
 }  // namespace

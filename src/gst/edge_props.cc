@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 #include "gst/edge_props.h"
 
+#include "gst/edge_glue.h"
+
 namespace nns::gst {
 
 namespace {
@@ -65,6 +67,39 @@ guint *uint_field(ConnProp p, ConnSettings *s) {
 }
 
 }  // namespace
+
+ConnPropDesc edge_connect_type_prop() {
+  return {ConnProp::kConnectType,
+          "Connect Type",
+          "The connections type between edgesink and edgesrc.",
+          nullptr,
+          0,
+          0,
+          false,
+          false,
+          edge_connect_type_get_type};
+}
+
+ConnPropDesc edge_topic_prop() {
+  return {ConnProp::kTopic,
+          "Topic",
+          "The main topic of the host and option if necessary. "
+          "(topic)/(optional topic for main topic).",
+          nullptr,
+          0,
+          0,
+          true};
+}
+
+ConnPropDesc edge_custom_lib_prop() {
+  return {ConnProp::kCustomLib,
+          "Custom connection lib path",
+          "User defined custom connection lib path.",
+          nullptr,
+          0,
+          0,
+          true};
+}
 
 edge::NodeOptions ConnSettings::node_options(edge::Role role) const {
   edge::NodeOptions o;

@@ -52,6 +52,11 @@ struct ConnPropDesc {
   GType (*enum_type)() = nullptr;  // connect-type: the element's GEnum
 };
 
+// connect-type, topic and custom-lib as edgesrc and edgesink both have them (same texts).
+ConnPropDesc edge_connect_type_prop();
+ConnPropDesc edge_topic_prop();
+ConnPropDesc edge_custom_lib_prop();
+
 class ConnPropTable {
  public:
   // The properties get the ids first_id, first_id + 1, ... in the order given.

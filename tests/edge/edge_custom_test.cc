@@ -40,46 +40,16 @@ void send_udp(uint16_t port, const std::string &bytes) {
   close(fd);
 }
 
-// A subscriber pipeline in this process.
-struct Sub {
-  GstElement *pipe, *sink;
-  explicit Sub(const std::string &props) {
-    pipe = gst_parse_launch(("edgesrc " + props + " ! appsink name=k sync=false").c_str(), nullptr);
-    sink = gst_bin_get_by_name(GST_BIN(pipe), "k");
-  }
-  ~Sub() {
-    gst_element_set_state(pipe, GST_STATE_NULL);
-    gst_object_unref(sink);
-    gst_object_unref(pipe);
-  }
-  std::string error(GstClockTime t) {
-    GstBus *bus = gst_element_get_bus(pipe);
-    GstMessage *m = gst_bus_timed_pop_filtered(bus, t, GST_MESSAGE_ERROR);
-    gst_object_unref(bus);
-    if (!m) return "";
-    GError *e = nullptr;
-    gst_message_parse_error(m, &e, nullptr);
-    std::string s = e->message;
-    g_error_free(e);
-    gst_message_unref(m);
-    return s;
-  }
-};
-
 }  // namespace
 
 TEST(EdgeChild, Run) {
-  const char *desc = std::getenv("NNS_EDGE_CHILD");
-  if (!desc) GTEST_SKIP() << "only runs as the helper process of the edge tests";
-  auto r = nns::test::run_pipeline(desc, 60);
-  if (r.error) printf("ERROR: %s\n", r.error_text.c_str());
-  EXPECT_TRUE(r.eos) << r.error_text;
+  edge_test::run_child();
 }
 
 TEST(EdgeCustom, PublisherInAnotherProcessExactBytesAndCaps) {
   const uint16_t port = free_port();
-  Sub sub(custom(port));
-  ASSERT_NE(gst_element_set_state(sub.pipe, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+  SubPipeline sub(custom(port));
+  ASSERT_TRUE(sub.play());
   TempFile in("edge_custom_in.bin");
   std::string want;
   for (int i = 0; i < 8 * 64; ++i) want.push_back(static_cast<char>(i * 5 + i / 64));
@@ -91,18 +61,9 @@ TEST(EdgeCustom, PublisherInAnotherProcessExactBytesAndCaps) {
             "custom_pub");
   std::string got, caps;
   for (int i = 0; i < 8; ++i) {
-    GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sub.sink), 5 * GST_SECOND);
-    ASSERT_TRUE(s) << "buffer " << i << "\n" << pub.log();
-    GstBuffer *b = gst_sample_get_buffer(s);
-    std::string bytes(gst_buffer_get_size(b), '\0');
-    gst_buffer_extract(b, 0, bytes.data(), bytes.size());
+    std::string bytes;
+    ASSERT_TRUE(sub.pull(&bytes, i == 0 ? &caps : nullptr)) << "buffer " << i << "\n" << pub.log();
     got += bytes;
-    if (i == 0) {
-      gchar *c = gst_caps_to_string(gst_sample_get_caps(s));
-      caps = c;
-      g_free(c);
-    }
-    gst_sample_unref(s);
   }
   EXPECT_EQ(got, want);
   EXPECT_EQ(caps,
@@ -135,8 +96,8 @@ TEST(EdgeCustom, CallsTheLibraryInNnstreamerEdgesOrder) {
       (std::vector<std::string>{"send_data 1 memories", "send_data 1 memories", "stop", "close"}));
   std::remove(trace.path.c_str());
   {
-    Sub sub(custom(port));
-    ASSERT_NE(gst_element_set_state(sub.pipe, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+    SubPipeline sub(custom(port));
+    ASSERT_TRUE(sub.play());
     // The library reports CONNECTION_CLOSED: the stream ends with an error naming it.
     send_udp(port, "bye");
     const std::string err = sub.error(5 * GST_SECOND);
@@ -177,21 +138,18 @@ TEST(EdgeCustom, LibraryErrorsNameTheLibrary) {
 
 TEST(EdgeCustom, PublisherCapsRefineAPartialCapsfilter) {
   const uint16_t port = free_port();
-  Sub sub(custom(port) + " ! video/x-raw,format=GRAY8");
-  ASSERT_NE(gst_element_set_state(sub.pipe, GST_STATE_PLAYING), GST_STATE_CHANGE_FAILURE);
+  SubPipeline sub(custom(port) + " ! video/x-raw,format=GRAY8");
+  ASSERT_TRUE(sub.play());
   Child pub(
       "videotestsrc num-buffers=40 is-live=true ! "
       "video/x-raw,format=GRAY8,width=4,height=4,framerate=50/1 ! edgesink sync=false " +
           custom(port),
       "custom_caps");
-  GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sub.sink), 5 * GST_SECOND);
-  ASSERT_TRUE(s) << pub.log();
-  gchar *c = gst_caps_to_string(gst_sample_get_caps(s));
-  EXPECT_EQ(std::string(c),
+  std::string bytes, caps;
+  ASSERT_TRUE(sub.pull(&bytes, &caps)) << pub.log();
+  EXPECT_EQ(caps,
             "video/x-raw, format=(string)GRAY8, width=(int)4, height=(int)4, "
             "framerate=(fraction)50/1, multiview-mode=(string)mono, "
             "pixel-aspect-ratio=(fraction)1/1, interlace-mode=(string)progressive");
-  g_free(c);
-  gst_sample_unref(s);
   EXPECT_EQ(pub.wait_exit(), 0) << pub.log();
 }

@@ -33,87 +33,17 @@ void write_blocks(const std::string &path, int n, int block, std::string *bytes)
   std::ofstream(path, std::ios::binary) << *bytes;
 }
 
-// An edgesrc subscriber in this process: edgesrc ! appsink.
-struct Subscriber {
-  GstElement *pipe = nullptr, *sink = nullptr;
-  explicit Subscriber(const std::string &props) {
-    GError *err = nullptr;
-    pipe = gst_parse_launch(
-        ("edgesrc name=s " + props + " ! appsink name=k sync=false max-buffers=0").c_str(), &err);
-    if (err) {
-      ADD_FAILURE() << err->message;
-      g_error_free(err);
-    }
-    sink = gst_bin_get_by_name(GST_BIN(pipe), "k");
-  }
-  ~Subscriber() {
-    gst_element_set_state(pipe, GST_STATE_NULL);
-    gst_object_unref(sink);
-    gst_object_unref(pipe);
-  }
-  // edgesrc subscribes in READY->PAUSED, done when set_state returns (the live appsink then
-  // waits for a first buffer asynchronously).
-  bool play() { return gst_element_set_state(pipe, GST_STATE_PLAYING) != GST_STATE_CHANGE_FAILURE; }
-  // Pulls one buffer; its bytes and (once) caps.
-  bool pull(std::string *bytes, std::string *caps = nullptr, GstClockTime t = 5 * GST_SECOND) {
-    GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), t);
-    if (!s) return false;
-    GstBuffer *b = gst_sample_get_buffer(s);
-    bytes->resize(gst_buffer_get_size(b));
-    gst_buffer_extract(b, 0, bytes->data(), bytes->size());
-    if (caps) {
-      gchar *c = gst_caps_to_string(gst_sample_get_caps(s));
-      *caps = c ? c : "";
-      g_free(c);
-    }
-    gst_sample_unref(s);
-    return true;
-  }
-  // The first ERROR (or "" after `t`), and every WARNING seen before it.
-  std::string error(GstClockTime t, std::string *warnings = nullptr) {
-    GstBus *bus = gst_element_get_bus(pipe);
-    std::string out;
-    for (;;) {
-      GstMessage *m = gst_bus_timed_pop_filtered(
-          bus, t, static_cast<GstMessageType>(GST_MESSAGE_ERROR | GST_MESSAGE_WARNING));
-      if (!m) break;
-      GError *e = nullptr;
-      gchar *dbg = nullptr;
-      const bool err = GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR;
-      if (err)
-        gst_message_parse_error(m, &e, &dbg);
-      else
-        gst_message_parse_warning(m, &e, &dbg);
-      const std::string text = std::string(e->message) + " | " + (dbg ? dbg : "");
-      g_error_free(e);
-      g_free(dbg);
-      gst_message_unref(m);
-      if (err) {
-        out = text;
-        break;
-      }
-      if (warnings) *warnings += text + "\n";
-    }
-    gst_object_unref(bus);
-    return out;
-  }
-};
-
 }  // namespace
 
 TEST(EdgeChild, Run) {
-  const char *desc = std::getenv("NNS_EDGE_CHILD");
-  if (!desc) GTEST_SKIP() << "only runs as the helper process of the edge tests";
-  auto r = nns::test::run_pipeline(desc, 60);
-  if (r.error) printf("ERROR: %s\n", r.error_text.c_str());
-  EXPECT_TRUE(r.eos) << r.error_text;
+  edge_test::run_child();
 }
 
 TEST(EdgeMqtt, PublisherInAnotherProcessExactBytes) {
   mqtt_test::Broker broker;
   MQTT_REQUIRE_BROKER(broker);
   const std::string topic = unique_topic("exact");
-  Subscriber sub(sub_props(broker, topic));
+  SubPipeline sub(sub_props(broker, topic));
   ASSERT_TRUE(sub.play());  // subscribed before the publisher exists
   std::string want;
   TempFile in_file("edge_mqtt_in.bin");
@@ -230,7 +160,7 @@ TEST(EdgeMqtt, BrokerRestartReconnectsBothSides) {
   mqtt_test::Broker broker;
   MQTT_REQUIRE_BROKER(broker);
   const std::string topic = unique_topic("restart");
-  Subscriber sub(sub_props(broker, topic));
+  SubPipeline sub(sub_props(broker, topic));
   ASSERT_TRUE(sub.play());
   Child pub(
       "videotestsrc is-live=true num-buffers=200 ! "
@@ -274,7 +204,7 @@ TEST(EdgeMqtt, MalformedMessagesAreErrorsNamingTheTopic) {
   int i = 0;
   for (const auto &[bytes, want] : cases) {
     const std::string topic = unique_topic("bad") + std::to_string(i++);
-    Subscriber sub(sub_props(broker, topic));
+    SubPipeline sub(sub_props(broker, topic));
     ASSERT_TRUE(sub.play());
     nns::mqtt::Client c({"127.0.0.1", broker.port(), "edge-mqtt-bad", 60, true});
     c.start();

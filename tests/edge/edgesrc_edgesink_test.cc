@@ -19,11 +19,7 @@ std::vector<uint8_t> payload(int n) {
 }  // namespace
 
 TEST(EdgeChild, Run) {
-  const char *desc = std::getenv("NNS_EDGE_CHILD");
-  if (!desc) GTEST_SKIP() << "only runs as the helper process of the edge tests";
-  auto r = nns::test::run_pipeline(desc, 60);
-  if (r.error) printf("ERROR: %s\n", r.error_text.c_str());
-  EXPECT_TRUE(r.eos) << r.error_text;
+  edge_test::run_child();
 }
 
 TEST(Edge, SubscriberInAnotherProcessGetsExactBytes) {

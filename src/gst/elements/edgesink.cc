@@ -68,19 +68,13 @@ const nns::gst::ConnPropTable &conn_props() {
         "A self port address to accept connection from edgesrc. If the port is set to 0 then "
         "the available port is allocated. ",
         nullptr, 3000},
-       {ConnProp::kConnectType, "Connect Type",
-        "The connections type between edgesink and edgesrc.", nullptr, 0, 0, false, false,
-        nns::gst::edge_connect_type_get_type},
+       nns::gst::edge_connect_type_prop(),
        {ConnProp::kDestHost, "Destination Host", "The destination hostname of the broker",
         "127.0.0.1"},
        {ConnProp::kDestPort, "Destination Port", "The destination port of the broker", nullptr,
         1883},
-       {ConnProp::kTopic, "Topic",
-        "The main topic of the host and option if necessary. "
-        "(topic)/(optional topic for main topic).",
-        nullptr, 0, 0, true},
-       {ConnProp::kCustomLib, "Custom connection lib path",
-        "User defined custom connection lib path.", nullptr, 0, 0, true}});
+       nns::gst::edge_topic_prop(),
+       nns::gst::edge_custom_lib_prop()});
   return t;
 }
 

@@ -62,15 +62,9 @@ const nns::gst::ConnPropTable &conn_props() {
         "A host address of edgesink to receive the packets from edgesink", "localhost"},
        {ConnProp::kDestPort, "Destination Port",
         "A port of edgesink to receive the packets from edgesink", nullptr, 3000},
-       {ConnProp::kConnectType, "Connect Type",
-        "The connections type between edgesink and edgesrc.", nullptr, 0, 0, false, false,
-        nns::gst::edge_connect_type_get_type},
-       {ConnProp::kTopic, "Topic",
-        "The main topic of the host and option if necessary. "
-        "(topic)/(optional topic for main topic).",
-        nullptr, 0, 0, true},
-       {ConnProp::kCustomLib, "Custom connection lib path",
-        "User defined custom connection lib path.", nullptr, 0, 0, true}});
+       nns::gst::edge_connect_type_prop(),
+       nns::gst::edge_topic_prop(),
+       nns::gst::edge_custom_lib_prop()});
   return t;
 }
 
