@@ -236,3 +236,37 @@ TEST(EdgeMqtt, SettingsErrors) {
             std::string::npos)
       << r.error_text;
 }
+
+TEST(EdgeMqtt, TensorsKeepOneMemoryEach) {
+  mqtt_test::Broker broker;
+  MQTT_REQUIRE_BROKER(broker);
+  const std::string topic = unique_topic("tensors");
+  SubPipeline sub(sub_props(broker, topic));
+  ASSERT_TRUE(sub.play());
+  const char *caps =
+      "other/tensors,format=static,num_tensors=2,dimensions=(string)4:1.2:1,"
+      "types=(string)uint8.uint8,framerate=(fraction)0/1";
+  AppPipeline pub("edgesink sync=false " + sub_props(broker, topic), caps, true);
+  pub.play();
+  GstBuffer *b = gst_buffer_new();
+  gst_buffer_append_memory(
+      b, gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, const_cast<char *>("abcd"), 4, 0, 4,
+                                nullptr, nullptr));
+  gst_buffer_append_memory(
+      b, gst_memory_new_wrapped(GST_MEMORY_FLAG_READONLY, const_cast<char *>("xy"), 2, 0, 2,
+                                nullptr, nullptr));
+  ASSERT_EQ(gst_app_src_push_buffer(GST_APP_SRC(pub.src), b), GST_FLOW_OK);
+  GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sub.sink), 5 * GST_SECOND);
+  ASSERT_TRUE(s);
+  GstBuffer *got = gst_sample_get_buffer(s);
+  ASSERT_EQ(gst_buffer_n_memory(got), 2u);
+  EXPECT_EQ(gst_buffer_peek_memory(got, 0)->size, 4u);
+  EXPECT_EQ(gst_buffer_peek_memory(got, 1)->size, 2u);
+  char bytes[6];
+  gst_buffer_extract(got, 0, bytes, 6);
+  EXPECT_EQ(std::string(bytes, 6), "abcdxy");
+  GstCaps *want = gst_caps_from_string(caps);
+  EXPECT_TRUE(gst_caps_is_equal(gst_sample_get_caps(s), want));
+  gst_caps_unref(want);
+  gst_sample_unref(s);
+}
