@@ -11,6 +11,7 @@
 
 #include "core/meta_header.h"
 #include "mqtt/mqtt_message.h"
+#include "edge/edge_data.h"
 #include "edge/edge_wire.h"
 #include "wire.h"
 
@@ -134,9 +135,9 @@ int main(int argc, char **argv) {
   const fs::path iio = root / "iio_channel";
   fs::create_directories(iio);
   n = 0;
-  for (const char *seed : {"le:s12/16>>4\n\x12\x34", "be:u10/16>>6\n\xff\xc0",
-                           "le:s24/32>>8\n\x01\x02\x03\x84", "le:s64/64>>0\n01234567",
-                           "be:s8/8>>0\n\x80", "le:u24/24>>0\n\x01\x02\x83"}) {
+  for (const char *seed :
+       {"le:s12/16>>4\n\x12\x34", "be:u10/16>>6\n\xff\xc0", "le:s24/32>>8\n\x01\x02\x03\x84",
+        "le:s64/64>>0\n01234567", "be:s8/8>>0\n\x80", "le:u24/24>>0\n\x01\x02\x83"}) {
     save(iio, n++, reinterpret_cast<const uint8_t *>(seed), std::strlen(seed));
   }
   {  // nnstreamer-edge TCP frames: handshake frames, a data frame with metadata, a goodbye.
@@ -169,6 +170,20 @@ int main(int argc, char **argv) {
     seeds.push_back(two);
     int k = 0;
     for (auto &b : seeds) save(edir, k++, b.data(), b.size());
+  }
+  {  // nnstreamer-edge serialized edge data (MQTT payloads): 0, 1, 3 and 16 memories.
+    const fs::path ddir = root / "edge_data";
+    fs::create_directories(ddir);
+    int k = 0;
+    for (std::size_t mems : {0, 1, 3, 16}) {
+      std::vector<std::vector<uint8_t>> bufs;
+      nns::edge::OutFrame f;
+      for (std::size_t i = 0; i < mems; ++i) bufs.emplace_back(i * 3 + 1, static_cast<uint8_t>(i));
+      for (auto &b : bufs) f.mems.push_back({b.data(), b.size()});
+      if (mems % 2) f.meta.set("caps", "video/x-raw,format=GRAY8,width=4,height=2");
+      const auto bytes = nns::edge::serialize_data(f);
+      save(ddir, k++, bytes.data(), bytes.size());
+    }
   }
   std::printf("seed corpus written to %s\n", root.c_str());
   return 0;

@@ -17,7 +17,8 @@ TOTAL=${NNS_FUZZ_SECONDS:-180}
 JOBS=${NNS_JOBS:-2}
 CLANG=${CXX:-clang++}
 [[ $CLANG == *clang++* ]] || CLANG=clang++
-ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame mqtt_message)
+ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame mqtt_message
+  edge_data)
 TARGETS=("${@:-${ALL[@]}}")
 [[ $# -gt 0 ]] || TARGETS=("${ALL[@]}")
 

@@ -2,8 +2,9 @@
 // The transport interface of the among-device elements. A ServerNode is the query server or
 // the publisher (edgesink); a ClientNode is the query client or the subscriber (edgesrc).
 // make_server()/make_client() pick the implementation for a connect type: TCP lives in
-// edge_tcp.cc, HYBRID (MQTT discovery + TCP) in edge_hybrid.cc; MQTT and CUSTOM are not there
-// yet (the factories throw a "not supported yet" nns::Error).
+// edge_tcp.cc, HYBRID (MQTT discovery + TCP) in edge_hybrid.cc, MQTT (publish/subscribe through
+// a broker, publisher and subscriber only) in edge_mqtt.cc, CUSTOM (a connection library with
+// nnstreamer-edge's custom ABI, publisher and subscriber only) in edge_custom.cc.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,7 @@ struct NodeOptions {
   std::string topic;
   Limits limits;
   int connect_timeout_ms = 5000;  // connecting and waiting for the handshake
+  std::string custom_lib;         // CUSTOM: the connection library (dlopen path)
 };
 
 struct NodeCallbacks {
@@ -88,6 +90,15 @@ std::unique_ptr<ClientNode> make_client(ConnectType type, const NodeOptions &opt
 // HYBRID implementations (edge_hybrid.cc): MQTT discovery at dest-host:dest-port, TCP data.
 std::unique_ptr<ServerNode> make_hybrid_server(const NodeOptions &opts, NodeCallbacks cb);
 std::unique_ptr<ClientNode> make_hybrid_client(const NodeOptions &opts, NodeCallbacks cb);
+
+// MQTT implementations (edge_mqtt.cc): broker at dest-host:dest-port, Role kPublisher /
+// kSubscriber only.
+std::unique_ptr<ServerNode> make_mqtt_server(const NodeOptions &opts, NodeCallbacks cb);
+std::unique_ptr<ClientNode> make_mqtt_client(const NodeOptions &opts, NodeCallbacks cb);
+
+// CUSTOM implementations (edge_custom.cc): opts.custom_lib, Role kPublisher / kSubscriber.
+std::unique_ptr<ServerNode> make_custom_server(const NodeOptions &opts, NodeCallbacks cb);
+std::unique_ptr<ClientNode> make_custom_client(const NodeOptions &opts, NodeCallbacks cb);
 
 // TCP implementations (edge_tcp.cc).
 std::unique_ptr<ServerNode> make_tcp_server(const NodeOptions &opts, NodeCallbacks cb);

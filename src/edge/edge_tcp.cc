@@ -426,16 +426,16 @@ std::unique_ptr<ServerNode> make_server(ConnectType type, const NodeOptions &opt
                                         NodeCallbacks cb) {
   if (type == ConnectType::kTcp) return make_tcp_server(opts, std::move(cb));
   if (type == ConnectType::kHybrid) return make_hybrid_server(opts, std::move(cb));
-  fail(ErrorKind::kSettings, std::string("connect-type ") + connect_type_name(type) +
-                                 " is not supported yet (TCP and HYBRID are implemented)");
+  if (type == ConnectType::kMqtt) return make_mqtt_server(opts, std::move(cb));
+  return make_custom_server(opts, std::move(cb));
 }
 
 std::unique_ptr<ClientNode> make_client(ConnectType type, const NodeOptions &opts,
                                         NodeCallbacks cb) {
   if (type == ConnectType::kTcp) return make_tcp_client(opts, std::move(cb));
   if (type == ConnectType::kHybrid) return make_hybrid_client(opts, std::move(cb));
-  fail(ErrorKind::kSettings, std::string("connect-type ") + connect_type_name(type) +
-                                 " is not supported yet (TCP and HYBRID are implemented)");
+  if (type == ConnectType::kMqtt) return make_mqtt_client(opts, std::move(cb));
+  return make_custom_client(opts, std::move(cb));
 }
 
 }  // namespace nns::edge

@@ -273,13 +273,15 @@ TEST(EdgeTcp, PublisherReachesEverySubscriber) {
   }
 }
 
-TEST(EdgeTcp, UnsupportedConnectTypesSaySo) {
+TEST(EdgeTcp, CustomNeedsALibrary) {
+  auto server = make_server(ConnectType::kCustom, NodeOptions{}, NodeCallbacks{});
   try {
-    make_server(ConnectType::kMqtt, NodeOptions{}, NodeCallbacks{});
+    server->start();
     FAIL();
   } catch (const nns::Error &e) {
     EXPECT_STREQ(e.what(),
-                 "connect-type MQTT is not supported yet (TCP and HYBRID are implemented)");
+                 "connect-type CUSTOM needs the custom-lib property (the connection library)");
   }
-  EXPECT_THROW(make_client(ConnectType::kCustom, NodeOptions{}, NodeCallbacks{}), nns::Error);
+  EXPECT_THROW(make_client(ConnectType::kCustom, NodeOptions{}, NodeCallbacks{})->connect(),
+               nns::Error);
 }

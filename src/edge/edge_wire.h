@@ -16,6 +16,24 @@
 
 namespace nns::edge {
 
+// Little-endian field access (nnstreamer-edge's structs as laid out on its platforms).
+inline void put_u32(uint8_t *p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+}
+inline void put_u64(uint8_t *p, uint64_t v) {
+  for (int i = 0; i < 8; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
+}
+inline uint32_t get_u32(const uint8_t *p) {
+  uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
+  return v;
+}
+inline uint64_t get_u64(const uint8_t *p) {
+  uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+  return v;
+}
+
 inline constexpr uint32_t kMagic = 0xfeedfeedU;
 inline constexpr std::size_t kMaxMemories = 256;  // NNS_EDGE_DATA_LIMIT
 inline constexpr std::size_t kHeaderSize = 2088;  // 4+4+8+8+4(+4 pad)+256*8+8

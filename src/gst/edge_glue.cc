@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"
+#include "gst/tensor_caps.h"
 
 GType gst_meta_query_api_get_type(void) {
   static GType type = 0;
@@ -157,6 +158,16 @@ edge::Allocator gst_memory_allocator() {
     if (!p->ok()) return nullptr;
     return p;
   };
+}
+
+GstBuffer *buffer_from_message_for_pad(edge::Message &&m, GstPad *src_pad) {
+  // The tensor config only matters for packing more than 16 memories (not per frame else).
+  if (m.mems.size() <= gst_buffer_get_max_memory())
+    return buffer_from_message(std::move(m), nullptr);
+  CapsPtr caps(gst_pad_get_current_caps(src_pad));
+  if (!caps || !is_tensor_caps(caps.get())) return buffer_from_message(std::move(m), nullptr);
+  const TensorsConfig cfg = config_from_caps(caps.get());
+  return buffer_from_message(std::move(m), &cfg);
 }
 
 GstBuffer *buffer_from_message(edge::Message &&m, const TensorsConfig *config) {

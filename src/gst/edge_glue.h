@@ -61,6 +61,8 @@ edge::Allocator gst_memory_allocator();
 // Moves the received memories into a new buffer (tensor caps with > 16 tensors are packed
 // as NNStreamer does, using `config`). Throws nns::Error(kStream) when that is impossible.
 GstBuffer *buffer_from_message(edge::Message &&m, const TensorsConfig *config);
+// Same, taking the tensor config from `src_pad`'s current caps when packing needs it.
+GstBuffer *buffer_from_message_for_pad(edge::Message &&m, GstPad *src_pad);
 
 // The server side shared by tensor_query_serversrc and tensor_query_serversink with the
 // same `id` (NNStreamer pairs them the same way).

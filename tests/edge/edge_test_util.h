@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -43,6 +44,50 @@ inline std::string slurp(const std::string &path) {
   return ss.str();
 }
 
+// The helper-process side of Child: every edge test binary has
+//   TEST(EdgeChild, Run) { edge_test::run_child(); }
+// which runs $NNS_EDGE_CHILD until EOS or ERROR, printing the bus warnings and the error
+// ("WARNING: <text>", "ERROR: <text>") for Child::log(); an ERROR fails the process (exit 1).
+inline void run_child() {
+  const char *desc = std::getenv("NNS_EDGE_CHILD");
+  if (!desc) GTEST_SKIP() << "only runs as the helper process of the edge tests";
+  GError *err = nullptr;
+  GstElement *p = gst_parse_launch(desc, &err);
+  ASSERT_TRUE(p) << (err ? err->message : "");
+  gst_element_set_state(p, GST_STATE_PLAYING);
+  GstBus *bus = gst_element_get_bus(p);
+  for (;;) {
+    GstMessage *m = gst_bus_timed_pop_filtered(
+        bus, GST_CLOCK_TIME_NONE,
+        static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR | GST_MESSAGE_WARNING));
+    GError *e = nullptr;
+    gchar *dbg = nullptr;
+    const GstMessageType t = GST_MESSAGE_TYPE(m);
+    if (t == GST_MESSAGE_ERROR) gst_message_parse_error(m, &e, &dbg);
+    if (t == GST_MESSAGE_WARNING) gst_message_parse_warning(m, &e, &dbg);
+    if (e) printf("%s: %s\n", t == GST_MESSAGE_ERROR ? "ERROR" : "WARNING", e->message);
+    fflush(stdout);
+    if (t == GST_MESSAGE_ERROR) ADD_FAILURE() << (e ? e->message : "") << " | " << (dbg ? dbg : "");
+    if (e) g_error_free(e);
+    g_free(dbg);
+    gst_message_unref(m);
+    if (t != GST_MESSAGE_WARNING) break;
+  }
+  gst_object_unref(bus);
+  gst_element_set_state(p, GST_STATE_NULL);
+  gst_object_unref(p);
+}
+
+// A file in the test temp dir, removed when it goes out of scope unless the test failed.
+struct TempFile {
+  explicit TempFile(const std::string &stem)
+      : path(std::string(::testing::TempDir()) + stem + "_" + std::to_string(getpid())) {}
+  ~TempFile() {
+    if (!::testing::Test::HasFailure()) std::remove(path.c_str());
+  }
+  std::string path;
+};
+
 // A pipeline in another process; its bus warnings/errors go to log().
 class Child {
  public:
@@ -65,7 +110,11 @@ class Child {
     if (posix_spawn(&pid_, "/proc/self/exe", &fa, nullptr, argv, envp.data()) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&fa);
   }
-  ~Child() { kill_now(); }
+  // The log stays only when the test failed (it is what explains the failure).
+  ~Child() {
+    kill_now();
+    if (!::testing::Test::HasFailure()) std::remove(log_.c_str());
+  }
   bool wait_port(uint16_t port, std::chrono::milliseconds t = 10s) {
     const auto end = std::chrono::steady_clock::now() + t;
     while (std::chrono::steady_clock::now() < end) {
@@ -195,6 +244,72 @@ struct AppPipeline {
     return s;
   }
   std::vector<GstMessage *> all_;
+};
+
+// An edgesrc subscriber in this process: edgesrc <props> ! appsink (props may add elements).
+struct SubPipeline {
+  GstElement *pipe = nullptr, *sink = nullptr;
+  explicit SubPipeline(const std::string &props) {
+    GError *err = nullptr;
+    pipe = gst_parse_launch(
+        ("edgesrc name=s " + props + " ! appsink name=k sync=false max-buffers=0").c_str(), &err);
+    if (err) {
+      ADD_FAILURE() << err->message;
+      g_error_free(err);
+    }
+    sink = gst_bin_get_by_name(GST_BIN(pipe), "k");
+  }
+  ~SubPipeline() {
+    gst_element_set_state(pipe, GST_STATE_NULL);
+    gst_object_unref(sink);
+    gst_object_unref(pipe);
+  }
+  // edgesrc subscribes in READY->PAUSED, done when set_state returns (the live appsink then
+  // waits for a first buffer asynchronously).
+  bool play() { return gst_element_set_state(pipe, GST_STATE_PLAYING) != GST_STATE_CHANGE_FAILURE; }
+  // Pulls one buffer; its bytes and (once) caps.
+  bool pull(std::string *bytes, std::string *caps = nullptr, GstClockTime t = 5 * GST_SECOND) {
+    GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(sink), t);
+    if (!s) return false;
+    GstBuffer *b = gst_sample_get_buffer(s);
+    bytes->resize(gst_buffer_get_size(b));
+    gst_buffer_extract(b, 0, bytes->data(), bytes->size());
+    if (caps) {
+      gchar *c = gst_caps_to_string(gst_sample_get_caps(s));
+      *caps = c ? c : "";
+      g_free(c);
+    }
+    gst_sample_unref(s);
+    return true;
+  }
+  // The first ERROR (or "" after `t`), and every WARNING seen before it.
+  std::string error(GstClockTime t, std::string *warnings = nullptr) {
+    GstBus *bus = gst_element_get_bus(pipe);
+    std::string out;
+    for (;;) {
+      GstMessage *m = gst_bus_timed_pop_filtered(
+          bus, t, static_cast<GstMessageType>(GST_MESSAGE_ERROR | GST_MESSAGE_WARNING));
+      if (!m) break;
+      GError *e = nullptr;
+      gchar *dbg = nullptr;
+      const bool err = GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR;
+      if (err)
+        gst_message_parse_error(m, &e, &dbg);
+      else
+        gst_message_parse_warning(m, &e, &dbg);
+      const std::string text = std::string(e->message) + " | " + (dbg ? dbg : "");
+      g_error_free(e);
+      g_free(dbg);
+      gst_message_unref(m);
+      if (err) {
+        out = text;
+        break;
+      }
+      if (warnings) *warnings += text + "\n";
+    }
+    gst_object_unref(bus);
+    return out;
+  }
 };
 
 inline guint64 stat(GstStructure *s, const char *field) {

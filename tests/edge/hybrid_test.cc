@@ -51,27 +51,8 @@ std::map<std::string, std::string> announcements(const mqtt_test::Broker &b,
 
 }  // namespace
 
-// Child side: runs NNS_EDGE_CHILD until EOS or error (as in tensor_query_test.cc).
 TEST(EdgeChild, Run) {
-  const char *desc = std::getenv("NNS_EDGE_CHILD");
-  if (!desc) GTEST_SKIP() << "only runs as the helper process of the edge tests";
-  GError *err = nullptr;
-  GstElement *p = gst_parse_launch(desc, &err);
-  ASSERT_TRUE(p) << (err ? err->message : "");
-  gst_element_set_state(p, GST_STATE_PLAYING);
-  GstBus *bus = gst_element_get_bus(p);
-  GstMessage *m = gst_bus_timed_pop_filtered(
-      bus, GST_CLOCK_TIME_NONE, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  if (GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-    GError *e = nullptr;
-    gst_message_parse_error(m, &e, nullptr);
-    printf("ERROR: %s\n", e->message);
-    g_error_free(e);
-  }
-  gst_message_unref(m);
-  gst_object_unref(bus);
-  gst_element_set_state(p, GST_STATE_NULL);
-  gst_object_unref(p);
+  edge_test::run_child();
 }
 
 TEST(Hybrid, ServerAnnouncesItselfAsNNStreamerEdgeDoes) {

@@ -32,34 +32,8 @@ std::string client_desc(uint16_t port, const std::string &extra = "") {
 
 }  // namespace
 
-// Child side: runs NNS_EDGE_CHILD until EOS or error, logging bus warnings and errors.
 TEST(EdgeChild, Run) {
-  const char *desc = std::getenv("NNS_EDGE_CHILD");
-  if (!desc) GTEST_SKIP() << "only runs as the helper process of the edge tests";
-  GError *err = nullptr;
-  GstElement *p = gst_parse_launch(desc, &err);
-  ASSERT_TRUE(p) << (err ? err->message : "");
-  gst_element_set_state(p, GST_STATE_PLAYING);
-  GstBus *bus = gst_element_get_bus(p);
-  for (;;) {
-    GstMessage *m = gst_bus_timed_pop_filtered(
-        bus, GST_CLOCK_TIME_NONE,
-        static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR | GST_MESSAGE_WARNING));
-    GError *e = nullptr;
-    gchar *dbg = nullptr;
-    const GstMessageType t = GST_MESSAGE_TYPE(m);
-    if (t == GST_MESSAGE_ERROR) gst_message_parse_error(m, &e, &dbg);
-    if (t == GST_MESSAGE_WARNING) gst_message_parse_warning(m, &e, &dbg);
-    if (e) printf("%s: %s\n", t == GST_MESSAGE_ERROR ? "ERROR" : "WARNING", e->message);
-    fflush(stdout);
-    if (e) g_error_free(e);
-    g_free(dbg);
-    gst_message_unref(m);
-    if (t != GST_MESSAGE_WARNING) break;
-  }
-  gst_object_unref(bus);
-  gst_element_set_state(p, GST_STATE_NULL);
-  gst_object_unref(p);
+  edge_test::run_child();
 }
 
 TEST(TensorQuery, RoundTripExactBytesAndTimestamps) {

@@ -20,6 +20,7 @@
 #include <mutex>
 
 #include "gst/edge_glue.h"
+#include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -35,13 +36,7 @@ G_END_DECLS
 namespace {
 
 struct Settings {
-  std::string host = "localhost";
-  guint port = 3000;
-  std::string dest_host = "127.0.0.1";
-  guint dest_port = 1883;
-  gint connect_type = 0;
-  std::string topic, custom_lib;
-  bool topic_set = false, custom_set = false;
+  nns::gst::ConnSettings conn;
   bool wait_connection = false;
   guint64 connection_timeout = 0;
 };
@@ -50,7 +45,8 @@ struct EdgeSinkPriv {
   std::mutex lock;
   Settings s;
   std::unique_ptr<nns::edge::ServerNode> node;
-  std::string caps;  // "@edge_sink_caps@..." once negotiated
+  std::string caps;       // "@edge_sink_caps@..." once negotiated
+  std::string caps_meta;  // connect-type MQTT: the caps, sent as "caps" metadata
   bool tensor_caps = false;
   std::mutex wlock;
   std::condition_variable wcv;
@@ -58,18 +54,29 @@ struct EdgeSinkPriv {
   guint64 published = 0, dropped = 0;
 };
 
-enum {
-  PROP_0,
-  PROP_HOST,
-  PROP_PORT,
-  PROP_DEST_HOST,
-  PROP_DEST_PORT,
-  PROP_CONNECT_TYPE,
-  PROP_TOPIC,
-  PROP_WAIT_CONNECTION,
-  PROP_CONNECTION_TIMEOUT,
-  PROP_CUSTOM_LIB,
-};
+enum { PROP_0, PROP_WAIT_CONNECTION, PROP_CONNECTION_TIMEOUT, PROP_CONN_FIRST };
+
+// Upstream's edgesink connection properties. Upstream's init sets dest-host/dest-port to
+// localhost/3000 while its specs say 127.0.0.1/1883: the specs' values are used.
+const nns::gst::ConnPropTable &conn_props() {
+  using nns::gst::ConnProp;
+  static const nns::gst::ConnPropTable t(
+      PROP_CONN_FIRST,
+      {{ConnProp::kHost, "Host", "A self host address to accept connection from edgesrc",
+        "localhost"},
+       {ConnProp::kPort, "Port",
+        "A self port address to accept connection from edgesrc. If the port is set to 0 then "
+        "the available port is allocated. ",
+        nullptr, 3000},
+       nns::gst::edge_connect_type_prop(),
+       {ConnProp::kDestHost, "Destination Host", "The destination hostname of the broker",
+        "127.0.0.1"},
+       {ConnProp::kDestPort, "Destination Port", "The destination port of the broker", nullptr,
+        1883},
+       nns::gst::edge_topic_prop(),
+       nns::gst::edge_custom_lib_prop()});
+  return t;
+}
 
 }  // namespace
 
@@ -88,38 +95,13 @@ static void edgesink_set_property(GObject *object, guint id, const GValue *value
                                   GParamSpec *pspec) {
   auto *p = GST_EDGESINK(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  auto str = [&](std::string *dst, bool *set) {
-    const gchar *v = g_value_get_string(value);
-    if (set) *set = v != nullptr;
-    if (v || set) *dst = v ? v : "";
-  };
+  if (conn_props().set(id, value, &p->s.conn)) return;
   switch (id) {
-    case PROP_HOST:
-      str(&p->s.host, nullptr);
-      break;
-    case PROP_PORT:
-      p->s.port = g_value_get_uint(value);
-      break;
-    case PROP_DEST_HOST:
-      str(&p->s.dest_host, nullptr);
-      break;
-    case PROP_DEST_PORT:
-      p->s.dest_port = g_value_get_uint(value);
-      break;
-    case PROP_CONNECT_TYPE:
-      p->s.connect_type = g_value_get_enum(value);
-      break;
-    case PROP_TOPIC:
-      str(&p->s.topic, &p->s.topic_set);
-      break;
     case PROP_WAIT_CONNECTION:
       p->s.wait_connection = g_value_get_boolean(value);
       break;
     case PROP_CONNECTION_TIMEOUT:
       p->s.connection_timeout = g_value_get_uint64(value);
-      break;
-    case PROP_CUSTOM_LIB:
-      str(&p->s.custom_lib, &p->s.custom_set);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -129,33 +111,13 @@ static void edgesink_set_property(GObject *object, guint id, const GValue *value
 static void edgesink_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_EDGESINK(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().get(id, value, p->s.conn)) return;
   switch (id) {
-    case PROP_HOST:
-      g_value_set_string(value, p->s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_uint(value, p->s.port);
-      break;
-    case PROP_DEST_HOST:
-      g_value_set_string(value, p->s.dest_host.c_str());
-      break;
-    case PROP_DEST_PORT:
-      g_value_set_uint(value, p->s.dest_port);
-      break;
-    case PROP_CONNECT_TYPE:
-      g_value_set_enum(value, p->s.connect_type);
-      break;
-    case PROP_TOPIC:
-      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
-      break;
     case PROP_WAIT_CONNECTION:
       g_value_set_boolean(value, p->s.wait_connection);
       break;
     case PROP_CONNECTION_TIMEOUT:
       g_value_set_uint64(value, p->s.connection_timeout);
-      break;
-    case PROP_CUSTOM_LIB:
-      g_value_set_string(value, p->s.custom_set ? p->s.custom_lib.c_str() : nullptr);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -172,14 +134,7 @@ static gboolean edgesink_start(GstBaseSink *bsink) {
       s = p->s;
       p->caps.clear();
     }
-    nns::gst::require_tcp(s.connect_type);
-    nns::edge::NodeOptions o;
-    o.role = nns::edge::Role::kPublisher;
-    o.host = s.host;
-    o.port = static_cast<uint16_t>(s.port);
-    o.dest_host = s.dest_host;  // HYBRID: the MQTT broker
-    o.dest_port = static_cast<uint16_t>(s.dest_port);
-    o.topic = s.topic;
+    nns::edge::NodeOptions o = s.conn.node_options(nns::edge::Role::kPublisher);
     nns::edge::NodeCallbacks cb;
     cb.caps = [p]() {
       std::lock_guard<std::mutex> l(p->lock);
@@ -191,8 +146,7 @@ static gboolean edgesink_start(GstBaseSink *bsink) {
       p->wcv.notify_all();
     };
     cb.on_warning = [self](const std::string &w) { NNS_POST_WARNING(self, w); };
-    p->node = nns::edge::make_server(static_cast<nns::edge::ConnectType>(s.connect_type), o,
-                                     std::move(cb));
+    p->node = nns::edge::make_server(s.conn.type(), o, std::move(cb));
     p->node->start();
     p->published = p->dropped = 0;
     return TRUE;
@@ -224,7 +178,12 @@ static gboolean edgesink_unlock_stop(GstBaseSink *bsink) {
 static gboolean edgesink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
   auto *p = GST_EDGESINK(bsink)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  p->caps = "@edge_sink_caps@" + nns::gst::caps_to_string(caps);
+  const std::string cs = nns::gst::caps_to_string(caps);
+  p->caps = "@edge_sink_caps@" + cs;
+  const auto t = p->s.conn.type();
+  p->caps_meta = t == nns::edge::ConnectType::kMqtt || t == nns::edge::ConnectType::kCustom
+                     ? cs
+                     : std::string();
   p->tensor_caps = nns::gst::is_tensor_caps(caps);
   return TRUE;
 }
@@ -235,25 +194,33 @@ static GstFlowReturn edgesink_render(GstBaseSink *bsink, GstBuffer *buf) {
     bool wait;
     guint64 timeout_ms;
     bool tensor;
+    std::string caps_meta;
+    bool mqtt;
     {
       std::lock_guard<std::mutex> l(p->lock);
       wait = p->s.wait_connection;
       timeout_ms = p->s.connection_timeout;
       tensor = p->tensor_caps;
+      caps_meta = p->caps_meta;
+      mqtt = p->s.conn.type() == nns::edge::ConnectType::kMqtt;
     }
     if (wait && p->node->client_count() == 0) {
+      // Polled in short slices too: an MQTT broker link coming back does not notify wcv.
       std::unique_lock<std::mutex> l(p->wlock);
       auto ready = [&] { return p->unlocked || p->node->client_count() > 0; };
-      if (timeout_ms == 0) {
-        p->wcv.wait(l, ready);
-      } else if (!p->wcv.wait_for(l, std::chrono::milliseconds(timeout_ms), ready)) {
-        nns::fail(nns::ErrorKind::kNotFound,
-                  "no edgesrc connected within connection-timeout=" + std::to_string(timeout_ms) +
-                      " ms (wait-connection=TRUE)");
+      const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+      while (!ready()) {
+        if (timeout_ms != 0 && std::chrono::steady_clock::now() >= end)
+          nns::fail(nns::ErrorKind::kNotFound,
+                    std::string(mqtt ? "no MQTT broker connection" : "no edgesrc connected") +
+                        " within connection-timeout=" + std::to_string(timeout_ms) +
+                        " ms (wait-connection=TRUE)");
+        p->wcv.wait_for(l, std::chrono::milliseconds(100));
       }
       if (p->unlocked) return GST_FLOW_FLUSHING;
     }
     nns::gst::FrameView view(buf, tensor);
+    if (!caps_meta.empty()) view.frame().meta.set("caps", caps_meta);
     if (p->node->broadcast(view.frame()) > 0)
       ++p->published;
     else
@@ -276,35 +243,7 @@ static void gst_edgesink_class_init(GstEdgeSinkClass *klass) {
   gobject->get_property = edgesink_get_property;
   gobject->finalize = edgesink_finalize;
   const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject, PROP_HOST,
-      g_param_spec_string("host", "Host", "A self host address to accept connection from edgesrc",
-                          "localhost", rw));
-  g_object_class_install_property(
-      gobject, PROP_PORT,
-      g_param_spec_uint("port", "Port",
-                        "A self port address to accept connection from edgesrc. If the port is "
-                        "set to 0 then the available port is allocated. ",
-                        0, 65535, 3000, rw));
-  g_object_class_install_property(
-      gobject, PROP_CONNECT_TYPE,
-      g_param_spec_enum("connect-type", "Connect Type",
-                        "The connections type between edgesink and edgesrc.",
-                        nns::gst::edge_connect_type_get_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_HOST,
-      g_param_spec_string("dest-host", "Destination Host", "The destination hostname of the broker",
-                          "127.0.0.1", rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_PORT,
-      g_param_spec_uint("dest-port", "Destination Port", "The destination port of the broker", 0,
-                        65535, 1883, rw));
-  g_object_class_install_property(
-      gobject, PROP_TOPIC,
-      g_param_spec_string("topic", "Topic",
-                          "The main topic of the host and option if necessary. "
-                          "(topic)/(optional topic for main topic).",
-                          nullptr, rw));
+  conn_props().install(gobject);
   g_object_class_install_property(
       gobject, PROP_WAIT_CONNECTION,
       g_param_spec_boolean("wait-connection", "Wait connection to edgesrc",
@@ -317,10 +256,6 @@ static void gst_edgesink_class_init(GstEdgeSinkClass *klass) {
                           "The timeout (in milliseconds) for waiting a connection to receiver. 0 "
                           "timeout (default) means infinite wait.",
                           0, G_MAXUINT64, 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_CUSTOM_LIB,
-      g_param_spec_string("custom-lib", "Custom connection lib path",
-                          "User defined custom connection lib path.", nullptr, rw));
   gst_element_class_add_static_pad_template(element, &sink_template);
   gst_element_class_set_static_metadata(element, "EdgeSink", "Sink/Edge",
                                         "Publish incoming streams", "nnstreamer-cpp");
@@ -335,4 +270,5 @@ static void gst_edgesink_class_init(GstEdgeSinkClass *klass) {
 
 static void gst_edgesink_init(GstEdgeSink *self) {
   self->priv = new EdgeSinkPriv();
+  self->priv->s.conn = conn_props().defaults();
 }

@@ -19,6 +19,7 @@
 #include <mutex>
 
 #include "gst/edge_glue.h"
+#include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -33,20 +34,12 @@ G_END_DECLS
 
 namespace {
 
-struct Settings {
-  std::string dest_host = "localhost";
-  guint dest_port = 3000;
-  gint connect_type = 0;
-  std::string topic, custom_lib, host;
-  bool topic_set = false, custom_set = false, host_set = false;
-  guint port = 0;
-};
-
 struct EdgeSrcPriv {
   std::mutex lock;
-  Settings s;
+  nns::gst::ConnSettings s;
   std::unique_ptr<nns::edge::ClientNode> node;
   std::string publisher_caps;  // edge_sink_caps of the publisher, if it announced them
+  std::string meta_caps;       // MQTT: the "caps" metadata last applied to the pad
   std::mutex qlock;
   std::condition_variable qcv;
   std::deque<nns::edge::Message> queue;
@@ -54,16 +47,26 @@ struct EdgeSrcPriv {
   std::string closed_why;
 };
 
-enum {
-  PROP_0,
-  PROP_HOST,
-  PROP_PORT,
-  PROP_DEST_HOST,
-  PROP_DEST_PORT,
-  PROP_CONNECT_TYPE,
-  PROP_TOPIC,
-  PROP_CUSTOM_LIB,
-};
+enum { PROP_0, PROP_CONN_FIRST };
+
+// Upstream's edgesrc properties (host and port deprecated, without effect).
+const nns::gst::ConnPropTable &conn_props() {
+  using nns::gst::ConnProp;
+  static const nns::gst::ConnPropTable t(
+      PROP_CONN_FIRST,
+      {{ConnProp::kHost, "Host", "A self host address (DEPRECATED, has no effect).", nullptr, 0,
+        65535, true, true},
+       {ConnProp::kPort, "Port", "A self port number (DEPRECATED, has no effect).", nullptr, 0,
+        65535, false, true},
+       {ConnProp::kDestHost, "Destination Host",
+        "A host address of edgesink to receive the packets from edgesink", "localhost"},
+       {ConnProp::kDestPort, "Destination Port",
+        "A port of edgesink to receive the packets from edgesink", nullptr, 3000},
+       nns::gst::edge_connect_type_prop(),
+       nns::gst::edge_topic_prop(),
+       nns::gst::edge_custom_lib_prop()});
+  return t;
+}
 
 }  // namespace
 
@@ -82,87 +85,30 @@ static void edgesrc_set_property(GObject *object, guint id, const GValue *value,
                                  GParamSpec *pspec) {
   auto *p = GST_EDGESRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  const auto str = [&](std::string *dst, bool *set) {
-    const gchar *v = g_value_get_string(value);
-    if (set) *set = v != nullptr;
-    if (v || set) *dst = v ? v : "";
-  };
-  switch (id) {
-    case PROP_HOST:
-      str(&p->s.host, &p->s.host_set);
-      break;
-    case PROP_PORT:
-      p->s.port = g_value_get_uint(value);
-      break;
-    case PROP_DEST_HOST:
-      str(&p->s.dest_host, nullptr);
-      break;
-    case PROP_DEST_PORT:
-      p->s.dest_port = g_value_get_uint(value);
-      break;
-    case PROP_CONNECT_TYPE:
-      p->s.connect_type = g_value_get_enum(value);
-      break;
-    case PROP_TOPIC:
-      str(&p->s.topic, &p->s.topic_set);
-      break;
-    case PROP_CUSTOM_LIB:
-      str(&p->s.custom_lib, &p->s.custom_set);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!conn_props().set(id, value, &p->s)) G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static void edgesrc_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_EDGESRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
-  switch (id) {
-    case PROP_HOST:
-      g_value_set_string(value, p->s.host_set ? p->s.host.c_str() : nullptr);
-      break;
-    case PROP_PORT:
-      g_value_set_uint(value, p->s.port);
-      break;
-    case PROP_DEST_HOST:
-      g_value_set_string(value, p->s.dest_host.c_str());
-      break;
-    case PROP_DEST_PORT:
-      g_value_set_uint(value, p->s.dest_port);
-      break;
-    case PROP_CONNECT_TYPE:
-      g_value_set_enum(value, p->s.connect_type);
-      break;
-    case PROP_TOPIC:
-      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
-      break;
-    case PROP_CUSTOM_LIB:
-      g_value_set_string(value, p->s.custom_set ? p->s.custom_lib.c_str() : nullptr);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+  if (!conn_props().get(id, value, p->s)) G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 static gboolean edgesrc_start(GstBaseSrc *bsrc) {
   return nns::gst::guard(bsrc, FALSE, [&]() -> gboolean {
     auto *p = GST_EDGESRC(bsrc)->priv;
-    Settings s;
+    nns::gst::ConnSettings s;
     {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->s;
     }
-    nns::gst::require_tcp(s.connect_type);
     {
       std::lock_guard<std::mutex> l(p->qlock);
       p->queue.clear();
       p->flushing = p->closed = p->clean = false;
+      p->meta_caps.clear();
     }
-    nns::edge::NodeOptions o;
-    o.role = nns::edge::Role::kSubscriber;
-    o.dest_host = s.dest_host;
-    o.dest_port = static_cast<uint16_t>(s.dest_port);
-    o.topic = s.topic;
+    nns::edge::NodeOptions o = s.node_options(nns::edge::Role::kSubscriber);
     nns::edge::NodeCallbacks cb;
     cb.alloc = nns::gst::gst_memory_allocator();
     cb.on_data = [p](nns::edge::Message &&m) {
@@ -170,6 +116,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       p->queue.push_back(std::move(m));
       p->qcv.notify_all();
     };
+    cb.on_warning = [bsrc](const std::string &w) { NNS_POST_WARNING(bsrc, w); };
     cb.on_closed = [p](const std::string &why, nns::edge::CloseKind kind) {
       std::lock_guard<std::mutex> l(p->qlock);
       p->closed = true;
@@ -177,8 +124,7 @@ static gboolean edgesrc_start(GstBaseSrc *bsrc) {
       p->closed_why = why;
       p->qcv.notify_all();
     };
-    p->node = nns::edge::make_client(static_cast<nns::edge::ConnectType>(s.connect_type), o,
-                                     std::move(cb));
+    p->node = nns::edge::make_client(s.type(), o, std::move(cb));
     try {
       p->node->connect();
     } catch (const nns::Error &e) {
@@ -231,6 +177,28 @@ static gboolean edgesrc_unlock_stop(GstBaseSrc *bsrc) {
   return TRUE;
 }
 
+// connect-type MQTT and CUSTOM have no capability exchange: our edgesink sends its caps as the
+// "caps" metadata of each message. They become the pad's caps unless downstream fixed others
+// (a capsfilter naming only some fields takes the publisher's full caps).
+static void apply_meta_caps(GstPushSrc *psrc, EdgeSrcPriv *p, const nns::edge::Message &m) {
+  const auto mc = m.meta.get("caps");
+  if (!mc || *mc == p->meta_caps) return;
+  GstPad *pad = GST_BASE_SRC_PAD(psrc);
+  nns::gst::CapsPtr cur(gst_pad_get_current_caps(pad));
+  nns::gst::CapsPtr caps(gst_caps_from_string(mc->c_str()));
+  if (!caps || !gst_caps_is_fixed(caps.get()))
+    nns::fail(nns::ErrorKind::kStream,
+              "the publisher's caps metadata '" + *mc + "' is not a fixed caps string");
+  // Negotiated with downstream: keep those, unless the publisher's refine them.
+  if (cur && p->meta_caps.empty() &&
+      (gst_caps_is_equal(caps.get(), cur.get()) || !gst_caps_is_subset(caps.get(), cur.get())))
+    return;
+  if (!gst_base_src_set_caps(GST_BASE_SRC(psrc), caps.get()))
+    nns::fail(nns::ErrorKind::kNegotiation,
+              "downstream does not accept the publisher's caps " + *mc);
+  p->meta_caps = *mc;
+}
+
 static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
   return nns::gst::guard(psrc, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     auto *p = GST_EDGESRC(psrc)->priv;
@@ -246,17 +214,8 @@ static GstFlowReturn edgesrc_create(GstPushSrc *psrc, GstBuffer **out) {
       m = std::move(p->queue.front());
       p->queue.pop_front();
     }
-    nns::TensorsConfig cfg;
-    const nns::TensorsConfig *cfgp = nullptr;
-    // The tensor config only matters for packing more than 16 memories (not per frame else).
-    nns::gst::CapsPtr caps(m.mems.size() > gst_buffer_get_max_memory()
-                               ? gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc))
-                               : nullptr);
-    if (caps && nns::gst::is_tensor_caps(caps.get())) {
-      cfg = nns::gst::config_from_caps(caps.get());
-      cfgp = &cfg;
-    }
-    *out = nns::gst::buffer_from_message(std::move(m), cfgp);
+    apply_meta_caps(psrc, p, m);
+    *out = nns::gst::buffer_from_message_for_pad(std::move(m), GST_BASE_SRC_PAD(psrc));
     return GST_FLOW_OK;
   });
 }
@@ -275,41 +234,7 @@ static void gst_edgesrc_class_init(GstEdgeSrcClass *klass) {
   gobject->set_property = edgesrc_set_property;
   gobject->get_property = edgesrc_get_property;
   gobject->finalize = edgesrc_finalize;
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  const auto deprecated = static_cast<GParamFlags>(rw | G_PARAM_DEPRECATED);
-  g_object_class_install_property(
-      gobject, PROP_HOST,
-      g_param_spec_string("host", "Host", "A self host address (DEPRECATED, has no effect).",
-                          nullptr, deprecated));
-  g_object_class_install_property(
-      gobject, PROP_PORT,
-      g_param_spec_uint("port", "Port", "A self port number (DEPRECATED, has no effect).", 0, 65535,
-                        0, deprecated));
-  g_object_class_install_property(
-      gobject, PROP_DEST_HOST,
-      g_param_spec_string("dest-host", "Destination Host",
-                          "A host address of edgesink to receive the packets from edgesink",
-                          "localhost", rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_PORT,
-      g_param_spec_uint("dest-port", "Destination Port",
-                        "A port of edgesink to receive the packets from edgesink", 0, 65535, 3000,
-                        rw));
-  g_object_class_install_property(
-      gobject, PROP_CONNECT_TYPE,
-      g_param_spec_enum("connect-type", "Connect Type",
-                        "The connections type between edgesink and edgesrc.",
-                        nns::gst::edge_connect_type_get_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_TOPIC,
-      g_param_spec_string("topic", "Topic",
-                          "The main topic of the host and option if necessary. "
-                          "(topic)/(optional topic for main topic).",
-                          nullptr, rw));
-  g_object_class_install_property(
-      gobject, PROP_CUSTOM_LIB,
-      g_param_spec_string("custom-lib", "Custom connection lib path",
-                          "User defined custom connection lib path.", nullptr, rw));
+  conn_props().install(gobject);
   gst_element_class_add_static_pad_template(element, &src_template);
   gst_element_class_set_static_metadata(element, "EdgeSrc", "Source/Edge",
                                         "Subscribe and push incoming streams", "nnstreamer-cpp");
@@ -324,6 +249,7 @@ static void gst_edgesrc_class_init(GstEdgeSrcClass *klass) {
 
 static void gst_edgesrc_init(GstEdgeSrc *self) {
   self->priv = new EdgeSrcPriv();
+  self->priv->s = conn_props().defaults();
   gst_base_src_set_format(GST_BASE_SRC(self), GST_FORMAT_TIME);
   gst_base_src_set_live(GST_BASE_SRC(self), TRUE);
 }

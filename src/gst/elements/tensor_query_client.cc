@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "gst/edge_glue.h"
+#include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -46,14 +47,7 @@ constexpr int kReconnectEveryMs = 200;     // at most one reconnect attempt per 
 constexpr int kReconnectTimeoutMs = 1000;  // each attempt's connect/handshake bound
 
 struct Settings {
-  std::string host = "localhost";
-  guint port = 3001;
-  std::string dest_host = "localhost";
-  guint dest_port = 3000;
-  gint connect_type = 0;
-  std::string topic;
-  bool topic_set = false;
-  guint timeout = 0;
+  nns::gst::ConnSettings conn;  // timeout: ms to wait for an answer (0: no wait)
   guint max_request = 2;
   bool silent = true;
 };
@@ -95,19 +89,29 @@ struct ClientPriv {
   guint64 sent = 0, received = 0, dropped = 0, lost_count = 0, reconnects = 0;
 };
 
-enum {
-  PROP_0,
-  PROP_HOST,
-  PROP_PORT,
-  PROP_DEST_HOST,
-  PROP_DEST_PORT,
-  PROP_CONNECT_TYPE,
-  PROP_TOPIC,
-  PROP_TIMEOUT,
-  PROP_SILENT,
-  PROP_MAX_REQUEST,
-  PROP_STATS,
-};
+enum { PROP_0, PROP_SILENT, PROP_MAX_REQUEST, PROP_STATS, PROP_CONN_FIRST };
+
+const nns::gst::ConnPropTable &conn_props() {
+  using nns::gst::ConnProp;
+  static const nns::gst::ConnPropTable t(
+      PROP_CONN_FIRST,
+      {{ConnProp::kHost, "Host", "A host address to receive the packets from query server",
+        "localhost"},
+       {ConnProp::kPort, "Port", "A port number to receive the packets from query server", nullptr,
+        3001},
+       {ConnProp::kDestHost, "Destination Host", "A tenor query server host to send the packets",
+        "localhost"},
+       {ConnProp::kDestPort, "Destination Port",
+        "The port of tensor query server to send the packets", nullptr, 3000},
+       {ConnProp::kConnectType, "Connect Type", "The connections type between client and server.",
+        nullptr, 0, 0, false, false, nns::gst::query_connect_type_get_type},
+       {ConnProp::kTopic, "Topic", "The main topic of the host.", nullptr, 0, 0, true},
+       {ConnProp::kTimeout, "timeout value",
+        "A timeout value (in ms) to wait message from query server after sending buffer to "
+        "server. 0 means no wait.",
+        nullptr, 0, G_MAXUINT}});
+  return t;
+}
 
 }  // namespace
 
@@ -244,14 +248,8 @@ void make_node(GstTensorQueryClient *self, int timeout_ms) {
     std::lock_guard<std::mutex> l(p->lock);
     s = p->s;
   }
-  nns::gst::require_tcp(s.connect_type);
-  nns::edge::NodeOptions o;
-  o.role = nns::edge::Role::kQueryClient;
-  o.host = s.host;
-  o.port = static_cast<uint16_t>(s.port);
-  o.dest_host = s.dest_host;
-  o.dest_port = static_cast<uint16_t>(s.dest_port);
-  o.topic = s.topic;
+  nns::gst::require_tcp(s.conn.connect_type);
+  nns::edge::NodeOptions o = s.conn.node_options(nns::edge::Role::kQueryClient);
   o.connect_timeout_ms = timeout_ms;
   nns::edge::NodeCallbacks cb;
   cb.alloc = nns::gst::gst_memory_allocator();
@@ -268,8 +266,7 @@ void make_node(GstTensorQueryClient *self, int timeout_ms) {
     p->qcv.notify_all();
   };
   cb.accept_caps = [self](const std::string &cap) { return check_server_caps(self, cap); };
-  p->node =
-      nns::edge::make_client(static_cast<nns::edge::ConnectType>(s.connect_type), o, std::move(cb));
+  p->node = nns::edge::make_client(s.conn.type(), o, std::move(cb));
 }
 
 void post_info(GstTensorQueryClient *self, const std::string &text) {
@@ -377,7 +374,7 @@ GstFlowReturn client_chain(GstPad *, GstObject *parent, GstBuffer *buf) {
     {
       std::lock_guard<std::mutex> l(p->lock);
       max_request = p->s.max_request;
-      timeout = p->s.timeout;
+      timeout = p->s.conn.timeout;
     }
     note_loss(self);
     bool send = true;
@@ -417,7 +414,7 @@ void drain(GstTensorQueryClient *self) {
   guint timeout;
   {
     std::lock_guard<std::mutex> l(p->lock);
-    timeout = p->s.timeout;
+    timeout = p->s.conn.timeout;
   }
   const auto deadline =
       Clock::now() + std::chrono::milliseconds(timeout ? timeout : kDrainDefaultMs);
@@ -534,29 +531,8 @@ GstStateChangeReturn client_change_state(GstElement *element, GstStateChange t) 
 static void client_set_property(GObject *object, guint id, const GValue *value, GParamSpec *pspec) {
   auto *p = GST_TENSOR_QUERY_CLIENT(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().set(id, value, &p->s.conn)) return;
   switch (id) {
-    case PROP_HOST:
-      if (g_value_get_string(value)) p->s.host = g_value_get_string(value);
-      break;
-    case PROP_PORT:
-      p->s.port = g_value_get_uint(value);
-      break;
-    case PROP_DEST_HOST:
-      if (g_value_get_string(value)) p->s.dest_host = g_value_get_string(value);
-      break;
-    case PROP_DEST_PORT:
-      p->s.dest_port = g_value_get_uint(value);
-      break;
-    case PROP_CONNECT_TYPE:
-      p->s.connect_type = g_value_get_enum(value);
-      break;
-    case PROP_TOPIC:
-      p->s.topic_set = g_value_get_string(value) != nullptr;
-      p->s.topic = p->s.topic_set ? g_value_get_string(value) : "";
-      break;
-    case PROP_TIMEOUT:
-      p->s.timeout = g_value_get_uint(value);
-      break;
     case PROP_SILENT:
       p->s.silent = g_value_get_boolean(value);
       break;
@@ -580,28 +556,8 @@ static void client_get_property(GObject *object, guint id, GValue *value, GParam
     return;
   }
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().get(id, value, p->s.conn)) return;
   switch (id) {
-    case PROP_HOST:
-      g_value_set_string(value, p->s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_uint(value, p->s.port);
-      break;
-    case PROP_DEST_HOST:
-      g_value_set_string(value, p->s.dest_host.c_str());
-      break;
-    case PROP_DEST_PORT:
-      g_value_set_uint(value, p->s.dest_port);
-      break;
-    case PROP_CONNECT_TYPE:
-      g_value_set_enum(value, p->s.connect_type);
-      break;
-    case PROP_TOPIC:
-      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
-      break;
-    case PROP_TIMEOUT:
-      g_value_set_uint(value, p->s.timeout);
-      break;
     case PROP_SILENT:
       g_value_set_boolean(value, p->s.silent);
       break;
@@ -628,36 +584,7 @@ static void gst_tensor_query_client_class_init(GstTensorQueryClientClass *klass)
   gobject->finalize = client_finalize;
   element->change_state = client_change_state;
   const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject, PROP_HOST,
-      g_param_spec_string("host", "Host", "A host address to receive the packets from query server",
-                          "localhost", rw));
-  g_object_class_install_property(
-      gobject, PROP_PORT,
-      g_param_spec_uint("port", "Port", "A port number to receive the packets from query server", 0,
-                        65535, 3001, rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_HOST,
-      g_param_spec_string("dest-host", "Destination Host",
-                          "A tenor query server host to send the packets", "localhost", rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_PORT,
-      g_param_spec_uint("dest-port", "Destination Port",
-                        "The port of tensor query server to send the packets", 0, 65535, 3000, rw));
-  g_object_class_install_property(
-      gobject, PROP_CONNECT_TYPE,
-      g_param_spec_enum("connect-type", "Connect Type",
-                        "The connections type between client and server.",
-                        nns::gst::query_connect_type_get_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_TOPIC,
-      g_param_spec_string("topic", "Topic", "The main topic of the host.", nullptr, rw));
-  g_object_class_install_property(
-      gobject, PROP_TIMEOUT,
-      g_param_spec_uint("timeout", "timeout value",
-                        "A timeout value (in ms) to wait message from query server after sending "
-                        "buffer to server. 0 means no wait.",
-                        0, G_MAXUINT, 0, rw));
+  conn_props().install(gobject);
   g_object_class_install_property(
       gobject, PROP_SILENT,
       g_param_spec_boolean("silent", "Silent", "Produce verbose output", TRUE, rw));
@@ -686,6 +613,7 @@ static void gst_tensor_query_client_class_init(GstTensorQueryClientClass *klass)
 
 static void gst_tensor_query_client_init(GstTensorQueryClient *self) {
   self->priv = new ClientPriv();
+  self->priv->s.conn = conn_props().defaults();
   self->sinkpad = gst_pad_new_from_static_template(&sink_template, "sink");
   gst_pad_set_chain_function(self->sinkpad, client_chain);
   gst_pad_set_event_function(self->sinkpad, client_sink_event);

@@ -18,6 +18,7 @@
 #include <mutex>
 
 #include "gst/edge_glue.h"
+#include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -35,8 +36,7 @@ namespace {
 
 struct ServerSinkPriv {
   std::mutex lock;
-  gint connect_type = 0;
-  guint timeout = 10;
+  nns::gst::ConnSettings conn;  // connect-type and timeout only
   guint id = 0;
   gint limit = 1;
   // streaming state
@@ -46,7 +46,17 @@ struct ServerSinkPriv {
   std::atomic<guint64> sent{0}, dropped{0};
 };
 
-enum { PROP_0, PROP_CONNECT_TYPE, PROP_TIMEOUT, PROP_ID, PROP_LIMIT, PROP_STATS };
+enum { PROP_0, PROP_ID, PROP_LIMIT, PROP_STATS, PROP_CONN_FIRST };
+
+const nns::gst::ConnPropTable &conn_props() {
+  using nns::gst::ConnProp;
+  static const nns::gst::ConnPropTable t(
+      PROP_CONN_FIRST, {{ConnProp::kConnectType, "Connect Type", "The connection type", nullptr, 0,
+                         0, false, false, nns::gst::query_connect_type_get_type},
+                        {ConnProp::kTimeout, "Timeout",
+                         "The timeout as seconds to maintain connection", nullptr, 10, 3600}});
+  return t;
+}
 
 }  // namespace
 
@@ -66,13 +76,8 @@ static void serversink_set_property(GObject *object, guint id, const GValue *val
                                     GParamSpec *pspec) {
   auto *p = GST_TENSOR_QUERY_SERVERSINK(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().set(id, value, &p->conn)) return;
   switch (id) {
-    case PROP_CONNECT_TYPE:
-      p->connect_type = g_value_get_enum(value);
-      break;
-    case PROP_TIMEOUT:
-      p->timeout = g_value_get_uint(value);
-      break;
     case PROP_ID:
       p->id = g_value_get_uint(value);
       break;
@@ -87,13 +92,8 @@ static void serversink_set_property(GObject *object, guint id, const GValue *val
 static void serversink_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_TENSOR_QUERY_SERVERSINK(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().get(id, value, p->conn)) return;
   switch (id) {
-    case PROP_CONNECT_TYPE:
-      g_value_set_enum(value, p->connect_type);
-      break;
-    case PROP_TIMEOUT:
-      g_value_set_uint(value, p->timeout);
-      break;
     case PROP_ID:
       g_value_set_uint(value, p->id);
       break;
@@ -116,7 +116,7 @@ static gboolean serversink_start(GstBaseSink *bsink) {
     guint id;
     {
       std::lock_guard<std::mutex> l(p->lock);
-      nns::gst::require_tcp(p->connect_type);
+      nns::gst::require_tcp(p->conn.connect_type);
       id = p->id;
     }
     p->shared = nns::gst::query_server_get(id);
@@ -205,14 +205,7 @@ static void gst_tensor_query_serversink_class_init(GstTensorQueryServerSinkClass
   gobject->get_property = serversink_get_property;
   gobject->finalize = serversink_finalize;
   const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject, PROP_CONNECT_TYPE,
-      g_param_spec_enum("connect-type", "Connect Type", "The connection type",
-                        nns::gst::query_connect_type_get_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_TIMEOUT,
-      g_param_spec_uint("timeout", "Timeout", "The timeout as seconds to maintain connection", 0,
-                        3600, 10, rw));
+  conn_props().install(gobject);
   g_object_class_install_property(
       gobject, PROP_ID,
       g_param_spec_uint("id", "ID", "ID for distinguishing query servers.", 0, G_MAXUINT, 0, rw));
@@ -242,6 +235,7 @@ static void gst_tensor_query_serversink_class_init(GstTensorQueryServerSinkClass
 
 static void gst_tensor_query_serversink_init(GstTensorQueryServerSink *self) {
   self->priv = new ServerSinkPriv();
+  self->priv->conn = conn_props().defaults();
   // Answers leave as soon as they are rendered; a processing deadline on a live server
   // pipeline only produces "please add queues" warnings (the source reports no latency).
   gst_base_sink_set_processing_deadline(GST_BASE_SINK(self), 0);

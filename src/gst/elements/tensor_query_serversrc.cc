@@ -22,6 +22,7 @@
 #include <mutex>
 
 #include "gst/edge_glue.h"
+#include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -38,14 +39,7 @@ G_END_DECLS
 namespace {
 
 struct Settings {
-  std::string host = "localhost";
-  guint port = 3000;
-  std::string dest_host = "127.0.0.1";
-  guint dest_port = 1883;
-  gint connect_type = 0;
-  guint timeout = 10;
-  std::string topic;
-  bool topic_set = false;
+  nns::gst::ConnSettings conn;
   guint id = 0;
 };
 
@@ -56,18 +50,28 @@ struct ServerSrcPriv {
   std::atomic<guint64> received{0};
 };
 
-enum {
-  PROP_0,
-  PROP_HOST,
-  PROP_PORT,
-  PROP_DEST_HOST,
-  PROP_DEST_PORT,
-  PROP_CONNECT_TYPE,
-  PROP_TIMEOUT,
-  PROP_TOPIC,
-  PROP_ID,
-  PROP_IS_LIVE,
-};
+enum { PROP_0, PROP_ID, PROP_IS_LIVE, PROP_CONN_FIRST };
+
+const nns::gst::ConnPropTable &conn_props() {
+  using nns::gst::ConnProp;
+  static const nns::gst::ConnPropTable t(
+      PROP_CONN_FIRST,
+      {{ConnProp::kHost, "Host", "The hostname to listen as", "localhost"},
+       {ConnProp::kPort, "Port", "The port to listen to (0=random available port)", nullptr, 3000},
+       {ConnProp::kDestHost, "Destination Host", "The destination hostname to connect",
+        "127.0.0.1"},
+       {ConnProp::kDestPort, "Destination Port",
+        "The destination port to connect to (0=random available port)", nullptr, 1883},
+       {ConnProp::kConnectType, "Connect Type", "The connection type.", nullptr, 0, 0, false, false,
+        nns::gst::query_connect_type_get_type},
+       {ConnProp::kTimeout, "Timeout", "The timeout as seconds to maintain connection", nullptr, 10,
+        3600},
+       {ConnProp::kTopic, "Topic",
+        "The main topic of the host and option if necessary. "
+        "(topic)/(optional topic for main topic).",
+        nullptr, 0, 0, true}});
+  return t;
+}
 
 }  // namespace
 
@@ -85,32 +89,10 @@ static GstStaticPadTemplate src_template =
 
 static void serversrc_set_property(GObject *object, guint id, const GValue *value,
                                    GParamSpec *pspec) {
-  auto *self = GST_TENSOR_QUERY_SERVERSRC(object);
-  auto *p = self->priv;
+  auto *p = GST_TENSOR_QUERY_SERVERSRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().set(id, value, &p->s.conn)) return;
   switch (id) {
-    case PROP_HOST:
-      if (g_value_get_string(value)) p->s.host = g_value_get_string(value);
-      break;
-    case PROP_PORT:
-      p->s.port = g_value_get_uint(value);
-      break;
-    case PROP_DEST_HOST:
-      if (g_value_get_string(value)) p->s.dest_host = g_value_get_string(value);
-      break;
-    case PROP_DEST_PORT:
-      p->s.dest_port = g_value_get_uint(value);
-      break;
-    case PROP_CONNECT_TYPE:
-      p->s.connect_type = g_value_get_enum(value);
-      break;
-    case PROP_TIMEOUT:
-      p->s.timeout = g_value_get_uint(value);
-      break;
-    case PROP_TOPIC:
-      p->s.topic_set = g_value_get_string(value) != nullptr;
-      p->s.topic = p->s.topic_set ? g_value_get_string(value) : "";
-      break;
     case PROP_ID:
       p->s.id = g_value_get_uint(value);
       break;
@@ -125,28 +107,8 @@ static void serversrc_set_property(GObject *object, guint id, const GValue *valu
 static void serversrc_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_TENSOR_QUERY_SERVERSRC(object)->priv;
   std::lock_guard<std::mutex> l(p->lock);
+  if (conn_props().get(id, value, p->s.conn)) return;
   switch (id) {
-    case PROP_HOST:
-      g_value_set_string(value, p->s.host.c_str());
-      break;
-    case PROP_PORT:
-      g_value_set_uint(value, p->s.port);
-      break;
-    case PROP_DEST_HOST:
-      g_value_set_string(value, p->s.dest_host.c_str());
-      break;
-    case PROP_DEST_PORT:
-      g_value_set_uint(value, p->s.dest_port);
-      break;
-    case PROP_CONNECT_TYPE:
-      g_value_set_enum(value, p->s.connect_type);
-      break;
-    case PROP_TIMEOUT:
-      g_value_set_uint(value, p->s.timeout);
-      break;
-    case PROP_TOPIC:
-      g_value_set_string(value, p->s.topic_set ? p->s.topic.c_str() : nullptr);
-      break;
     case PROP_ID:
       g_value_set_uint(value, p->s.id);
       break;
@@ -167,7 +129,7 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
       std::lock_guard<std::mutex> l(p->lock);
       s = p->s;
     }
-    nns::gst::require_tcp(s.connect_type);
+    nns::gst::require_tcp(s.conn.connect_type);
     auto shared = nns::gst::query_server_get(s.id);
     {
       std::lock_guard<std::mutex> l(shared->lock);
@@ -179,14 +141,8 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
       gst_object_replace(reinterpret_cast<GstObject **>(&shared->src_pad),
                          GST_OBJECT(GST_BASE_SRC_PAD(bsrc)));
     }
-    nns::edge::NodeOptions o;
-    o.role = nns::edge::Role::kQueryServer;
-    o.host = s.host;
-    o.port = static_cast<uint16_t>(s.port);
-    o.dest_host = s.dest_host;  // HYBRID: the MQTT broker
-    o.dest_port = static_cast<uint16_t>(s.dest_port);
-    o.topic = s.topic;
-    o.connect_timeout_ms = s.timeout ? static_cast<int>(s.timeout) * 1000 : -1;
+    nns::edge::NodeOptions o = s.conn.node_options(nns::edge::Role::kQueryServer);
+    o.connect_timeout_ms = s.conn.timeout ? static_cast<int>(s.conn.timeout) * 1000 : -1;
     nns::edge::NodeCallbacks cb;
     std::weak_ptr<nns::gst::QueryServerShared> weak = shared;
     cb.on_data = [weak](nns::edge::Message &&m) {
@@ -205,10 +161,11 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
       return sh ? sh->capability() : std::string();
     };
     cb.alloc = nns::gst::gst_memory_allocator();
-    std::shared_ptr<nns::edge::ServerNode> node = nns::edge::make_server(
-        static_cast<nns::edge::ConnectType>(s.connect_type), o, std::move(cb));
+    std::shared_ptr<nns::edge::ServerNode> node =
+        nns::edge::make_server(s.conn.type(), o, std::move(cb));
     node->start();
-    GST_INFO_OBJECT(self, "query server %u listening on %s:%u", s.id, s.host.c_str(), node->port());
+    GST_INFO_OBJECT(self, "query server %u listening on %s:%u", s.id, s.conn.host.c_str(),
+                    node->port());
     {
       std::lock_guard<std::mutex> l(shared->lock);
       shared->node = node;
@@ -273,17 +230,7 @@ static GstFlowReturn serversrc_create(GstPushSrc *psrc, GstBuffer **out) {
     }
     const auto id_str = m.meta.get("client_id");
     const int64_t client_id = id_str ? g_ascii_strtoll(id_str->c_str(), nullptr, 10) : 0;
-    nns::TensorsConfig cfg;
-    const nns::TensorsConfig *cfgp = nullptr;
-    // The tensor config only matters for packing more than 16 memories (not per frame else).
-    nns::gst::CapsPtr caps(m.mems.size() > gst_buffer_get_max_memory()
-                               ? gst_pad_get_current_caps(GST_BASE_SRC_PAD(psrc))
-                               : nullptr);
-    if (caps && nns::gst::is_tensor_caps(caps.get())) {
-      cfg = nns::gst::config_from_caps(caps.get());
-      cfgp = &cfg;
-    }
-    GstBuffer *buf = nns::gst::buffer_from_message(std::move(m), cfgp);
+    GstBuffer *buf = nns::gst::buffer_from_message_for_pad(std::move(m), GST_BASE_SRC_PAD(psrc));
     nns::gst::buffer_add_meta_query(buf, client_id);
     ++p->received;
     *out = buf;
@@ -306,36 +253,7 @@ static void gst_tensor_query_serversrc_class_init(GstTensorQueryServerSrcClass *
   gobject->get_property = serversrc_get_property;
   gobject->finalize = serversrc_finalize;
   const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(
-      gobject, PROP_HOST,
-      g_param_spec_string("host", "Host", "The hostname to listen as", "localhost", rw));
-  g_object_class_install_property(
-      gobject, PROP_PORT,
-      g_param_spec_uint("port", "Port", "The port to listen to (0=random available port)", 0, 65535,
-                        3000, rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_HOST,
-      g_param_spec_string("dest-host", "Destination Host", "The destination hostname to connect",
-                          "127.0.0.1", rw));
-  g_object_class_install_property(
-      gobject, PROP_DEST_PORT,
-      g_param_spec_uint("dest-port", "Destination Port",
-                        "The destination port to connect to (0=random available port)", 0, 65535,
-                        1883, rw));
-  g_object_class_install_property(
-      gobject, PROP_CONNECT_TYPE,
-      g_param_spec_enum("connect-type", "Connect Type", "The connection type.",
-                        nns::gst::query_connect_type_get_type(), 0, rw));
-  g_object_class_install_property(
-      gobject, PROP_TIMEOUT,
-      g_param_spec_uint("timeout", "Timeout", "The timeout as seconds to maintain connection", 0,
-                        3600, 10, rw));
-  g_object_class_install_property(
-      gobject, PROP_TOPIC,
-      g_param_spec_string("topic", "Topic",
-                          "The main topic of the host and option if necessary. "
-                          "(topic)/(optional topic for main topic).",
-                          nullptr, rw));
+  conn_props().install(gobject);
   g_object_class_install_property(
       gobject, PROP_ID,
       g_param_spec_uint("id", "ID", "ID for distinguishing query servers.", 0, G_MAXUINT, 0, rw));
@@ -360,6 +278,7 @@ static void gst_tensor_query_serversrc_class_init(GstTensorQueryServerSrcClass *
 
 static void gst_tensor_query_serversrc_init(GstTensorQueryServerSrc *self) {
   self->priv = new ServerSrcPriv();
+  self->priv->s.conn = conn_props().defaults();
   gst_base_src_set_format(GST_BASE_SRC(self), GST_FORMAT_TIME);
   gst_base_src_set_do_timestamp(GST_BASE_SRC(self), TRUE);
   gst_base_src_set_live(GST_BASE_SRC(self), TRUE);
