@@ -37,6 +37,28 @@ TensorsInfo as_static(TensorsInfo i) {
   return i;
 }
 
+// "; the stream comes from NAME" naming the element before `e` (with the framework and model
+// when it is another tensor_filter), for negotiation errors; "" when it has no peer.
+std::string upstream_note(GstBaseTransform *e) {
+  GstPad *peer = gst_pad_get_peer(GST_BASE_TRANSFORM_SINK_PAD(e));
+  if (!peer) return "";
+  GstElement *up = gst_pad_get_parent_element(peer);
+  gst_object_unref(peer);
+  if (!up) return "";
+  std::string note = std::string("; the stream comes from ") + GST_OBJECT_NAME(up);
+  GstElementFactory *f = gst_element_get_factory(up);
+  if (f && std::string(GST_OBJECT_NAME(f)) == "tensor_filter") {
+    gchar *fw = nullptr, *model = nullptr;
+    g_object_get(up, "framework", &fw, "model", &model, nullptr);
+    note += std::string(" (tensor_filter framework '") + (fw ? fw : "") + "', model '" +
+            (model ? model : "") + "')";
+    g_free(fw);
+    g_free(model);
+  }
+  gst_object_unref(up);
+  return note;
+}
+
 struct WrappedOut {
   std::shared_ptr<FilterSession> session;
   void *data;
@@ -298,11 +320,11 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
     if (!in_flexible_) {
       model_in_ = combi_.model_input(frame_in_);
       if (eff_in_known_ && !model_in_.same_as(eff_in_))
-        fail(ErrorKind::kNegotiation, where() + ": the input stream " +
-                                          (combi_.in_defined ? "(after input-combination) " : "") +
-                                          "has " + model_in_.to_string() + ", but " + in_source_ +
-                                          " " + eff_in_.to_string() +
-                                          "; caps: " + caps_to_string(incaps));
+        fail(ErrorKind::kNegotiation,
+             where() + ": the input stream " +
+                 (combi_.in_defined ? "(after input-combination) " : "") + "has " +
+                 model_in_.to_string() + ", but " + in_source_ + " " + eff_in_.to_string() +
+                 "; caps: " + caps_to_string(incaps) + upstream_note(element_));
     } else {
       if (!eff_in_known_)
         fail(ErrorKind::kNegotiation,

@@ -55,6 +55,8 @@ class FilterEngine {
   void open(const FilterSettings &settings);
   void close();
   bool is_open() const { return inst_ != nullptr; }
+  // The settings the open instance was opened with.
+  const FilterSettings &open_settings() const { return settings_; }
   std::shared_ptr<FilterInstance> instance() const { return inst_; }
 
   // Caps on the other pad for `caps` on pad `direction`; nullptr when unknown (the caller
