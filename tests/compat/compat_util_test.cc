@@ -14,6 +14,7 @@
 #include "nnstreamer_conf.h"
 #include "nnstreamer_log.h"
 #include "nnstreamer_plugin_api.h"
+#include "nnstreamer_plugin_api_filter.h"
 #include "support/harness.h"
 
 namespace {
@@ -508,3 +509,26 @@ TEST(CompatDecoderUtil, RastersAreTheLabelFontBottomRowFirst) {
 
 }  // namespace
 #endif
+
+// nnstreamer_plugin_api_filter.h's accelerator helpers, through libnnstreamer-single.so's exports.
+TEST(CompatAccl, TypeStringAndParse) {
+  EXPECT_EQ(get_accl_hw_type("npu.vivante"), ACCL_NPU_VIVANTE);
+  EXPECT_EQ(get_accl_hw_type("Npu"), ACCL_NONE);
+  EXPECT_EQ(get_accl_hw_type(nullptr), ACCL_NONE);
+  EXPECT_STREQ(get_accl_hw_str(ACCL_NPU_SR), "npu.sr");
+  EXPECT_STREQ(get_accl_hw_str(ACCL_AUTO), "auto");
+  EXPECT_STREQ(get_accl_hw_str(static_cast<accl_hw>(0x7777)), "none");
+  const char *sup[] = {ACCL_CPU_STR, ACCL_GPU_STR, nullptr};
+  auto parse = [&](const char *in, const char *aut, const char *def) {
+    parse_accl_args a{in, sup, aut, def};
+    return parse_accl_hw_fill(a);
+  };
+  EXPECT_EQ(parse("true:cpu,gpu", nullptr, nullptr), ACCL_CPU);
+  EXPECT_EQ(parse("true:gpu,cpu", nullptr, nullptr), ACCL_GPU);
+  EXPECT_EQ(parse("true:!cpu", "gpu", nullptr), ACCL_GPU);
+  EXPECT_EQ(parse("true:npu", nullptr, "gpu"), ACCL_CPU);  // unsupported: auto, the first one
+  EXPECT_EQ(parse("false:gpu", nullptr, nullptr), ACCL_NONE);
+  EXPECT_EQ(parse(nullptr, nullptr, "gpu"), ACCL_GPU);
+  parse_accl_args empty{"true:cpu", nullptr, nullptr, nullptr};
+  EXPECT_EQ(parse_accl_hw_fill(empty), ACCL_NONE);
+}
