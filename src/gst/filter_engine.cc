@@ -131,14 +131,14 @@ void FilterEngine::open(const FilterSettings &s) {
                                    std::string(be.iface->name) +
                                    "' does not support dynamic invoke");
   inst_ = FilterInstance::acquire(be, spec);
+  open_warnings_.clear();
   if (!(inst_->flags() & NNS_FILTER_FLAG_TENSOR_NAMES))
     for (const char *prop : {"inputname", "outputname"}) {
       const TensorsInfo &given = prop[0] == 'i' ? spec.input : spec.output;
       if (names_only(given))
-        NNS_POST_WARNING(element_, std::string(prop) + "='" +
-                                       (prop[0] == 'i' ? s.inputname : s.outputname) +
-                                       "' is ignored: framework '" + inst_->name() +
-                                       "' does not pick tensors by name");
+        open_warnings_.push_back(
+            std::string(prop) + "='" + (prop[0] == 'i' ? s.inputname : s.outputname) +
+            "' is ignored: framework '" + inst_->name() + "' does not pick tensors by name");
     }
   allocate_in_invoke_ = (inst_->flags() & NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE) != 0;
   check_model_shapes();
@@ -183,8 +183,13 @@ void FilterEngine::check_model_shapes() {
       if (eff_in_[i].name.empty()) eff_in_[i].name = mi[i].name;
 }
 
+void FilterEngine::post_open_warnings() const {
+  for (const std::string &w : open_warnings_) NNS_POST_WARNING(element_, w);
+}
+
 void FilterEngine::close() {
   inst_.reset();
+  open_warnings_.clear();
   configured_ = false;
   eff_in_known_ = eff_out_known_ = model_in_known_ = model_out_known_ = false;
   eff_in_ = eff_out_ = TensorsInfo{};

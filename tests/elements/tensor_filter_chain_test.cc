@@ -12,6 +12,7 @@
 #include "backends/backend_loader.h"
 #include "elements/filter_test_util.h"
 #include "elements/stream_util.h"
+#include "gst/tensor_caps.h"
 
 using namespace nns::test;
 
@@ -237,4 +238,37 @@ TEST(FilterChainShared, MobilenetIntoLenetNamesBothFilters) {
                    m + "mobilenet_v2_quant.onnx')"),
             std::string::npos)
       << t;
+}
+
+// A model opened for a caps query before start keeps its open warnings for the start: here the
+// element has no bus yet when it is asked (not in a pipeline), and the pipeline's bus still gets
+// the warning, once, when the element starts.
+TEST(FilterQueryOpen, OpenWarningsArePostedAtStart) {
+  std::string so = filter_dir() + "/libcustom_passthrough.so";
+  GstElement *f = gst_element_factory_make("tensor_filter", "f");
+  g_object_set(f, "framework", "custom", "model", so.c_str(), "inputname", "pixels", nullptr);
+  GstPad *sink = gst_element_get_static_pad(f, "sink");
+  GstCaps *c = gst_pad_query_caps(sink, nullptr);  // opens the model (NULL state, no bus)
+  EXPECT_NE(nns::gst::caps_to_string(c).find("10:1:1:1"), std::string::npos);
+  gst_caps_unref(c);
+  gst_object_unref(sink);
+  EXPECT_EQ(string_prop(f, "input"), "10:1:1:1");
+  GstElement *p = gst_parse_launch(
+      (fake_source(40, tensors_caps("float32", "10:1:1:1"), 1) + "identity name=i").c_str(),
+      nullptr);
+  ASSERT_NE(p, nullptr);
+  GstElement *out = gst_element_factory_make("fakesink", nullptr);
+  gst_bin_add_many(GST_BIN(p), f, out, nullptr);
+  GstElement *i = gst_bin_get_by_name(GST_BIN(p), "i");
+  ASSERT_TRUE(gst_element_link_many(i, f, out, nullptr));
+  gst_object_unref(i);
+  RunResult r = run_pipeline(p);
+  gst_object_unref(p);
+  EXPECT_TRUE(r.eos) << r.error_text;
+  // "f: <text> | <debug>": the message part starts with the element name.
+  const std::string w =
+      "f: inputname='pixels' is ignored: framework 'custom' does not pick tensors by name";
+  auto first = r.warning_text.find(w);
+  EXPECT_NE(first, std::string::npos) << r.warning_text;
+  EXPECT_EQ(r.warning_text.find(w, first + 1), std::string::npos) << "posted twice";
 }

@@ -471,6 +471,7 @@ static gboolean gst_tensor_filter_start(GstBaseTransform *trans) {
       p->engine.set_async(nullptr);
       // A caps query before start may have opened the model with these very settings.
       if (!p->engine.is_open() || !(p->engine.open_settings() == s)) p->engine.open(s);
+      p->engine.post_open_warnings();
       p->query_open_failed.reset();
       p->started = true;
       p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
