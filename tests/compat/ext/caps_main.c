@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: LGPL-2.1-only */
 /* Uses nnstreamer_plugin_api.h (exported by libnnstreamer.so, the plugin) from a program built
  * against the installed headers: config -> caps -> config round trip, a 20-tensor buffer, and
- * nnstreamer_plugin_api_filter.h's accelerator helpers (parse_accl_hw() as sub-plugins call it).
+ * nnstreamer_plugin_api_filter.h's accelerator helpers (parse_accl_hw() as sub-plugins call it)
+ * and nnstreamer_internal.h's framework detection.
  * Prints what it got; exits 1 on the first mismatch. */
 #include <stdio.h>
 #include <string.h>
 
 #include <nnstreamer_plugin_api.h>
+#include <nnstreamer_internal.h>
 #include <nnstreamer_plugin_api_filter.h>
 
 static int fail(const char *what, const char *got) {
@@ -85,6 +87,13 @@ int main(void) {
     if (parse_accl_hw_fill(args) != ACCL_CPU) rc |= fail("parse_accl_hw", "true:!npu,cpu,gpu");
     if (parse_accl_hw("true", sup, "gpu", "cpu") != ACCL_GPU) rc |= fail("parse_accl_hw", "true");
     if (parse_accl_hw(NULL, sup, "gpu", "cpu") != ACCL_CPU) rc |= fail("parse_accl_hw", "NULL");
+  }
+  {
+    const gchar *models[] = {"model.tflite"};
+    gchar *fw = gst_tensor_filter_detect_framework(models, 1, FALSE);
+    printf("detected %s\n", fw ? fw : "(null)");
+    if (!fw || strcmp(fw, "tensorflow-lite") != 0) rc |= fail("detect_framework", fw);
+    g_free(fw);
   }
   printf(rc ? "FAILED\n" : "OK\n");
   return rc;
