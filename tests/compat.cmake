@@ -23,14 +23,23 @@ add_test(NAME compat.build_extensions
 set_tests_properties(compat.build_extensions PROPERTIES LABELS compat TIMEOUT 300
   FIXTURES_SETUP compat_ext RESOURCE_LOCK compat_install)
 
-# 2. Every function of the installed headers is exported by the right library.
+# 2. Every function of the installed headers is exported by the right library, and every
+# function of NNStreamer 2.x's nnstreamer_plugin_api_filter.h (the list below, from upstream's
+# header) by both libraries, as NNStreamer's tensor_filter_common.c is in both.
+set(_upstream_filter_api "nnstreamer_filter_probe,nnstreamer_filter_exit,nnstreamer_filter_find,\
+nnstreamer_filter_set_custom_property_desc,get_accl_hw_type,get_accl_hw_str,parse_accl_hw_fill,\
+nnstreamer_filter_shared_model_get,nnstreamer_filter_shared_model_insert_and_get,\
+nnstreamer_filter_shared_model_remove,nnstreamer_filter_shared_model_replace,\
+nnstreamer_filter_dispatch_output_async")
 add_test(NAME compat.exports
   COMMAND /usr/bin/python3 ${_c}/check_exports.py
           ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_INCLUDEDIR}/nnstreamer
           ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-single.so
           ${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer.so
           "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-decoder-util.so=loadImageLabels,initSingleLineSprite,_free_labels,setFramerateFromConfig"
-          "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-converter-util.so=tcu_get_out_config")
+          "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-converter-util.so=tcu_get_out_config"
+          "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer-single.so=${_upstream_filter_api}"
+          "${NNS_COMPAT_TEST_DIR}/installed/prefix/${CMAKE_INSTALL_LIBDIR}/libnnstreamer.so=${_upstream_filter_api}")
 set_tests_properties(compat.exports PROPERTIES LABELS compat TIMEOUT 60
   FIXTURES_REQUIRED compat_ext)
 

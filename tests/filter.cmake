@@ -48,7 +48,7 @@ foreach(t ${_filter_tests})
   endif()
 endforeach()
 # These run the generated models through the real back ends.
-foreach(t tensor_filter_onnx_test filter_reload_leak_test)
+foreach(t tensor_filter_onnx_test tensor_filter_chain_test filter_reload_leak_test)
   if(TARGET ${t})
     add_dependencies(${t} nns_test_models)
     foreach(b nns_filter_onnxruntime nns_filter_opencv nns_filter_pytorch nns_filter_python3)

@@ -270,6 +270,27 @@ extern const GstTensorFilterFramework *nnstreamer_filter_find(const char *name);
 /* Describes the custom= keys of sub-plugin `name`: ("key", "description", ..., NULL). */
 extern void nnstreamer_filter_set_custom_property_desc(const char *name, const char *prop, ...);
 
+/* Accelerator names (the ACCL_*_STR strings above, matched exactly) and values. An unknown name
+ * gives ACCL_NONE, an unknown value "none". cpu.neon is an accelerator on Arm only; its value
+ * (that of cpu.simd) is named cpu.neon there and cpu.simd elsewhere. */
+extern accl_hw get_accl_hw_type(const char *str);
+extern const char *get_accl_hw_str(const accl_hw key);
+
+/* The arguments of parse_accl_hw(). */
+typedef struct {
+  const char *in_accl;   /* accelerator= as the user gave it (may be NULL) */
+  const char **sup_accl; /* NULL-terminated names the sub-plugin supports */
+  const char *auto_accl; /* what "auto" means (NULL: the first supported one) */
+  const char *def_accl;  /* what "default" or an unset in_accl means (NULL: the first one) */
+} parse_accl_args;
+
+/* The accelerator to use: in_accl "true[:name,...]" gives the first supported name it lists
+ * (names after a '!' are skipped; none listed: auto), any other string ACCL_NONE, NULL the
+ * default. ACCL_NONE when sup_accl is NULL or empty. Call it as
+ * parse_accl_hw(in_accl, sup_accl[, auto_accl[, def_accl]]). */
+extern accl_hw parse_accl_hw_fill(parse_accl_args accl_args);
+#define parse_accl_hw(...) parse_accl_hw_fill((parse_accl_args){__VA_ARGS__})
+
 /* A model representation shared by filters with the same shared-tensor-filter-key. `instance`
  * identifies the caller (e.g. its private data). */
 /* The representation stored for `key` (the caller is added to its users), or NULL. */

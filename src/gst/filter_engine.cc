@@ -37,6 +37,28 @@ TensorsInfo as_static(TensorsInfo i) {
   return i;
 }
 
+// "; the stream comes from NAME" naming the element before `e` (with the framework and model
+// when it is another tensor_filter), for negotiation errors; "" when it has no peer.
+std::string upstream_note(GstBaseTransform *e) {
+  GstPad *peer = gst_pad_get_peer(GST_BASE_TRANSFORM_SINK_PAD(e));
+  if (!peer) return "";
+  GstElement *up = gst_pad_get_parent_element(peer);
+  gst_object_unref(peer);
+  if (!up) return "";
+  std::string note = std::string("; the stream comes from ") + GST_OBJECT_NAME(up);
+  GstElementFactory *f = gst_element_get_factory(up);
+  if (f && std::string(GST_OBJECT_NAME(f)) == "tensor_filter") {
+    gchar *fw = nullptr, *model = nullptr;
+    g_object_get(up, "framework", &fw, "model", &model, nullptr);
+    note += std::string(" (tensor_filter framework '") + (fw ? fw : "") + "', model '" +
+            (model ? model : "") + "')";
+    g_free(fw);
+    g_free(model);
+  }
+  gst_object_unref(up);
+  return note;
+}
+
 struct WrappedOut {
   std::shared_ptr<FilterSession> session;
   void *data;
@@ -109,14 +131,14 @@ void FilterEngine::open(const FilterSettings &s) {
                                    std::string(be.iface->name) +
                                    "' does not support dynamic invoke");
   inst_ = FilterInstance::acquire(be, spec);
+  open_warnings_.clear();
   if (!(inst_->flags() & NNS_FILTER_FLAG_TENSOR_NAMES))
     for (const char *prop : {"inputname", "outputname"}) {
       const TensorsInfo &given = prop[0] == 'i' ? spec.input : spec.output;
       if (names_only(given))
-        NNS_POST_WARNING(element_, std::string(prop) + "='" +
-                                       (prop[0] == 'i' ? s.inputname : s.outputname) +
-                                       "' is ignored: framework '" + inst_->name() +
-                                       "' does not pick tensors by name");
+        open_warnings_.push_back(
+            std::string(prop) + "='" + (prop[0] == 'i' ? s.inputname : s.outputname) +
+            "' is ignored: framework '" + inst_->name() + "' does not pick tensors by name");
     }
   allocate_in_invoke_ = (inst_->flags() & NNS_FILTER_FLAG_ALLOCATE_IN_INVOKE) != 0;
   check_model_shapes();
@@ -161,8 +183,13 @@ void FilterEngine::check_model_shapes() {
       if (eff_in_[i].name.empty()) eff_in_[i].name = mi[i].name;
 }
 
+void FilterEngine::post_open_warnings() const {
+  for (const std::string &w : open_warnings_) NNS_POST_WARNING(element_, w);
+}
+
 void FilterEngine::close() {
   inst_.reset();
+  open_warnings_.clear();
   configured_ = false;
   eff_in_known_ = eff_out_known_ = model_in_known_ = model_out_known_ = false;
   eff_in_ = eff_out_ = TensorsInfo{};
@@ -298,11 +325,11 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
     if (!in_flexible_) {
       model_in_ = combi_.model_input(frame_in_);
       if (eff_in_known_ && !model_in_.same_as(eff_in_))
-        fail(ErrorKind::kNegotiation, where() + ": the input stream " +
-                                          (combi_.in_defined ? "(after input-combination) " : "") +
-                                          "has " + model_in_.to_string() + ", but " + in_source_ +
-                                          " " + eff_in_.to_string() +
-                                          "; caps: " + caps_to_string(incaps));
+        fail(ErrorKind::kNegotiation,
+             where() + ": the input stream " +
+                 (combi_.in_defined ? "(after input-combination) " : "") + "has " +
+                 model_in_.to_string() + ", but " + in_source_ + " " + eff_in_.to_string() +
+                 "; caps: " + caps_to_string(incaps) + upstream_note(element_));
     } else {
       if (!eff_in_known_)
         fail(ErrorKind::kNegotiation,

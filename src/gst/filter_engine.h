@@ -55,6 +55,11 @@ class FilterEngine {
   void open(const FilterSettings &settings);
   void close();
   bool is_open() const { return inst_ != nullptr; }
+  // The settings the open instance was opened with.
+  const FilterSettings &open_settings() const { return settings_; }
+  // Posts the warnings of the last open() (properties the back end ignores). Kept apart so a
+  // model opened for a caps query before start has them posted when the element starts.
+  void post_open_warnings() const;
   std::shared_ptr<FilterInstance> instance() const { return inst_; }
 
   // Caps on the other pad for `caps` on pad `direction`; nullptr when unknown (the caller
@@ -119,6 +124,7 @@ class FilterEngine {
   GstBaseTransform *element_;
   std::shared_ptr<FilterInstance> inst_;
   FilterSettings settings_;
+  std::vector<std::string> open_warnings_;
   Combination combi_;
   bool invoke_dynamic_ = false;
   bool allocate_in_invoke_ = false;

@@ -32,6 +32,8 @@ struct FilterSettings {
   bool invoke_async = false;
   std::string config_file;
   uint32_t suspend_ms = 0;
+
+  bool operator==(const FilterSettings &) const = default;
 };
 
 // input-combination="0,2": model inputs are input tensors 0 and 2.

@@ -125,6 +125,16 @@ void check_flexible_caps_fields(const GstCaps *caps, const TensorsInfo &info,
   if (!problem.empty()) fail(ErrorKind::kNegotiation, problem);
 }
 
+bool is_decorated_flexible(const GstCaps *caps) {
+  if (!caps || gst_caps_is_empty(caps) || gst_caps_is_any(caps)) return false;
+  const GstStructure *s = gst_caps_get_structure(caps, 0);
+  if (!gst_structure_has_name(s, kTensors)) return false;
+  const char *f = gst_structure_get_string(s, "format");
+  if (!f || std::string(f) != "flexible") return false;
+  return gst_structure_has_field(s, "num_tensors") || gst_structure_has_field(s, "types") ||
+         gst_structure_has_field(s, "dimensions");
+}
+
 TensorsConfig config_from_structure(const GstStructure *s) {
   TensorsConfig c;
   read_rate(s, c);

@@ -34,6 +34,10 @@ bool structure_allows_format(const GstStructure *s, TensorFormat format);
 void check_flexible_caps_fields(const GstCaps *caps, const TensorsInfo &info,
                                 const std::string &who);
 
+// Whether the first structure of `caps` is decorated flexible caps: other/tensors with
+// format=flexible (one string) and at least one of num_tensors, types, dimensions.
+bool is_decorated_flexible(const GstCaps *caps);
+
 // Reads whatever fields are fixed; unfixed/missing fields stay unset (empty tensors,
 // rate -1). Throws nns::Error(kNegotiation) on malformed dimension/type strings or when
 // num_tensors disagrees with the lists.

@@ -17,6 +17,7 @@ pc=$(find "$prefix" -name nnstreamer.pc -path '*/pkgconfig/*' | head -n 1)
 [ -n "$pc" ] || { echo "no nnstreamer.pc installed under $prefix"; exit 1; }
 PKG_CONFIG_PATH=$(dirname "$pc")${PKG_CONFIG_PATH:+:$PKG_CONFIG_PATH}
 export PKG_CONFIG_PATH
+pkg-config --exists nnstreamer-internal || { echo "no nnstreamer-internal.pc installed"; exit 1; }
 cflags=$(pkg-config --cflags nnstreamer)
 libdir=$(pkg-config --variable=libdir nnstreamer-single)
 cc=${CC:-cc}

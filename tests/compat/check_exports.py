@@ -14,7 +14,8 @@ import sys
 from pathlib import Path
 
 SINGLE_HEADERS = {"nnstreamer_plugin_api_util.h", "nnstreamer_conf.h", "nnstreamer_log.h",
-                  "nnstreamer-single.h", "ml-api-common.h", "nnstreamer-tizen-internal.h"}
+                  "nnstreamer-single.h", "ml-api-common.h", "nnstreamer-tizen-internal.h",
+                  "nnstreamer_internal.h"}
 # The ML Pipeline API has a library of its own (NNStreamer's libcapi-nnstreamer), beside single.
 CAPI_HEADERS = {"nnstreamer.h"}
 

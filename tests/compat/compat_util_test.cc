@@ -12,8 +12,10 @@
 #include <string>
 
 #include "nnstreamer_conf.h"
+#include "nnstreamer_internal.h"
 #include "nnstreamer_log.h"
 #include "nnstreamer_plugin_api.h"
+#include "nnstreamer_plugin_api_filter.h"
 #include "support/harness.h"
 
 namespace {
@@ -508,3 +510,87 @@ TEST(CompatDecoderUtil, RastersAreTheLabelFontBottomRowFirst) {
 
 }  // namespace
 #endif
+
+// nnstreamer_plugin_api_filter.h's accelerator helpers, through libnnstreamer-single.so's exports.
+TEST(CompatAccl, TypeStringAndParse) {
+  EXPECT_EQ(get_accl_hw_type("npu.vivante"), ACCL_NPU_VIVANTE);
+  EXPECT_EQ(get_accl_hw_type("Npu"), ACCL_NONE);
+  EXPECT_EQ(get_accl_hw_type(nullptr), ACCL_NONE);
+  EXPECT_STREQ(get_accl_hw_str(ACCL_NPU_SR), "npu.sr");
+  EXPECT_STREQ(get_accl_hw_str(ACCL_AUTO), "auto");
+  EXPECT_STREQ(get_accl_hw_str(static_cast<accl_hw>(0x7777)), "none");
+  const char *sup[] = {ACCL_CPU_STR, ACCL_GPU_STR, nullptr};
+  auto parse = [&](const char *in, const char *aut, const char *def) {
+    parse_accl_args a{in, sup, aut, def};
+    return parse_accl_hw_fill(a);
+  };
+  EXPECT_EQ(parse("true:cpu,gpu", nullptr, nullptr), ACCL_CPU);
+  EXPECT_EQ(parse("true:gpu,cpu", nullptr, nullptr), ACCL_GPU);
+  EXPECT_EQ(parse("true:!cpu", "gpu", nullptr), ACCL_GPU);
+  EXPECT_EQ(parse("true:npu", nullptr, "gpu"), ACCL_CPU);  // unsupported: auto, the first one
+  EXPECT_EQ(parse("false:gpu", nullptr, nullptr), ACCL_NONE);
+  EXPECT_EQ(parse(nullptr, nullptr, "gpu"), ACCL_GPU);
+  parse_accl_args empty{"true:cpu", nullptr, nullptr, nullptr};
+  EXPECT_EQ(parse_accl_hw_fill(empty), ACCL_NONE);
+}
+
+// nnstreamer_internal.h: NNStreamer's framework detection table and the accelerator check.
+TEST(CompatInternal, DetectFrameworkAsNNStreamer) {
+  auto detect = [](std::vector<const char *> files, gboolean conf = FALSE) {
+    gchar *fw = gst_tensor_filter_detect_framework(files.data(), files.size(), conf);
+    std::string r = fw ? fw : "(null)";
+    g_free(fw);
+    return r;
+  };
+  EXPECT_EQ(detect({"m.tflite"}), "tensorflow-lite");
+  EXPECT_EQ(detect({"/a/b/M.TFLite"}), "tensorflow-lite");
+  EXPECT_EQ(detect({"m.pb"}), "tensorflow");
+  EXPECT_EQ(detect({"m.pt"}), "pytorch");
+  EXPECT_EQ(detect({"m.py"}), "python");
+  EXPECT_EQ(detect({"m.circle"}), "nnfw");
+  EXPECT_EQ(detect({"libfilter.so"}), "custom");
+  EXPECT_EQ(detect({"m.xml"}), "openvino");
+  EXPECT_EQ(detect({"m.bin"}), "openvino");
+  EXPECT_EQ(detect({"m.nb"}), "vivante");
+  EXPECT_EQ(detect({"m.gguf"}), "llamacpp");
+  EXPECT_EQ(detect({"m.onnx"}), "(null)");  // not in NNStreamer's table
+  EXPECT_EQ(detect({"model"}), "(null)");   // no extension
+  EXPECT_EQ(detect({"a.pb", "b.pb"}), "caffe2");
+  EXPECT_EQ(detect({"a.pb", "a.pb"}), "(null)");
+  EXPECT_EQ(detect({"a.so", "b.nb"}), "vivante");
+  EXPECT_EQ(detect({"a.nb", "b.so"}), "vivante");
+  EXPECT_EQ(detect({"a.tflite", "b.tflite", "c.tflite"}), "(null)");
+  std::string dir = nns::test::make_temp_dir();
+  EXPECT_EQ(detect({dir.c_str()}), "nnfw");
+  EXPECT_EQ(gst_tensor_filter_detect_framework(nullptr, 1, FALSE), nullptr);
+  // load_conf: [filter] framework_priority_<ext>, its first available framework.
+  std::string ini = dir + "/nnstreamer.ini";
+  std::ofstream(ini) << "[common]\nenable_envvar=False\n[filter]\n"
+                        "framework_priority_onnx=nosuch,custom-easy\n"
+                        "framework_priority_tflite=nosuch\n";
+  const char *old = g_getenv("NNSTREAMER_CONF");
+  std::string saved = old ? old : "";
+  g_setenv("NNSTREAMER_CONF", ini.c_str(), TRUE);
+  nnsconf_loadconf(TRUE);
+  EXPECT_EQ(detect({"m.onnx"}, TRUE), "custom-easy");
+  EXPECT_EQ(detect({"m.onnx"}, FALSE), "(null)");
+  EXPECT_EQ(detect({"m.tflite"}, TRUE), "tensorflow-lite");  // none available: the table
+  if (old)
+    g_setenv("NNSTREAMER_CONF", saved.c_str(), TRUE);
+  else
+    g_unsetenv("NNSTREAMER_CONF");
+  nnsconf_loadconf(TRUE);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CompatInternal, CheckHwAvailability) {
+  // custom-easy is built in and has no accelerator check: the CPU only.
+  EXPECT_TRUE(gst_tensor_filter_check_hw_availability("custom-easy", ACCL_CPU, nullptr));
+  EXPECT_TRUE(gst_tensor_filter_check_hw_availability("custom-easy", ACCL_CPU_SIMD, nullptr));
+  EXPECT_TRUE(gst_tensor_filter_check_hw_availability("custom-easy", ACCL_AUTO, "opt"));
+  EXPECT_TRUE(gst_tensor_filter_check_hw_availability("custom-easy", ACCL_DEFAULT, nullptr));
+  EXPECT_FALSE(gst_tensor_filter_check_hw_availability("custom-easy", ACCL_GPU, nullptr));
+  EXPECT_FALSE(gst_tensor_filter_check_hw_availability("custom-easy", ACCL_NPU, nullptr));
+  EXPECT_FALSE(gst_tensor_filter_check_hw_availability("no-such-framework", ACCL_AUTO, nullptr));
+  EXPECT_FALSE(gst_tensor_filter_check_hw_availability(nullptr, ACCL_CPU, nullptr));
+}

@@ -24,6 +24,7 @@
 
 #include "core/c_tensor_info.h"
 #include "core/compat2x/filter2x.h"
+#include "core/filter_accl.h"
 #include "core/filter_builtin_util.h"
 #include "core/filter_compat_props.h"
 
@@ -76,9 +77,10 @@ bool accl_of(std::string s, accl_hw &out) {
   return false;
 }
 
-// NNStreamer's reading of accelerator= for version 1 tables: unset -> the framework's
-// default; "true[:a,b]" -> the listed accelerators the framework supports, in the given order
-// (none of them: auto); anything else -> none. auto/default map to the framework's choice.
+// NNStreamer's reading of accelerator= for version 1 tables (nns::accl::match_all over the
+// framework's accelerators plus auto and default): unset -> the framework's default;
+// "true[:a,b]" -> the listed accelerators the framework supports, in the given order (none of
+// them: auto); anything else -> none. auto/default map to the framework's choice.
 std::vector<accl_hw> parse_accelerators(const Filter2x &f, const char *accl) {
   std::vector<accl_hw> out;
   if (f.hw.empty()) return out;
@@ -87,25 +89,11 @@ std::vector<accl_hw> parse_accelerators(const Filter2x &f, const char *accl) {
     if (h == ACCL_DEFAULT) return f.info.accl_default < ACCL_NONE ? f.hw[0] : f.info.accl_default;
     return h;
   };
-  if (!accl) return {resolve(ACCL_DEFAULT)};
-  std::string s = accl;
-  if (strncasecmp(s.c_str(), "true", 4) != 0) return {ACCL_NONE};
-  auto colon = s.find(':');
-  std::string list = colon == std::string::npos ? "" : s.substr(colon + 1);
-  std::size_t pos = 0;
-  while (pos <= list.size()) {
-    auto next = list.find(',', pos);
-    std::string item = list.substr(pos, next == std::string::npos ? std::string::npos : next - pos);
-    accl_hw h;
-    if (accl_of(item, h)) {
-      bool ok = h == ACCL_AUTO || h == ACCL_DEFAULT;
-      for (accl_hw s2 : f.hw) ok = ok || s2 == h;
-      if (ok) out.push_back(resolve(h));
-    }
-    if (next == std::string::npos) break;
-    pos = next + 1;
-  }
-  if (out.empty()) out.push_back(resolve(ACCL_AUTO));
+  std::vector<std::string> supported;
+  for (accl_hw h : f.hw) supported.emplace_back(nns::accl::name_of(h));
+  supported.emplace_back(ACCL_AUTO_STR);
+  supported.emplace_back(ACCL_DEFAULT_STR);
+  for (accl_hw h : nns::accl::match_all(accl, supported)) out.push_back(resolve(h));
   return out;
 }
 

@@ -48,6 +48,10 @@ struct DebugPriv {
   std::string caps_text;
   std::vector<nns::MetaHeader> last_headers;
   bool warned_unsupported = false;
+  // Flexible caps decorated with num_tensors / types / dimensions (set_caps): they pass through
+  // as they are; the first buffer whose headers contradict them is reported once.
+  nns::gst::CapsPtr decoration;
+  bool warned_decoration = false;
 };
 
 enum { PROP_0, PROP_SILENT, PROP_OUTPUT, PROP_CAP, PROP_META };
@@ -173,6 +177,8 @@ static gboolean tensor_debug_set_caps(GstBaseTransform *trans, GstCaps *in, GstC
     p->config = nns::gst::config_from_caps(in);
     p->caps_text = nns::gst::caps_to_string(in);
     p->last_headers.clear();
+    p->decoration.reset(nns::gst::is_decorated_flexible(in) ? gst_caps_ref(in) : nullptr);
+    p->warned_decoration = false;
     Snapshot s = snapshot(p);
     if (s.out.unsupported && !p->warned_unsupported) {
       p->warned_unsupported = true;
@@ -192,10 +198,27 @@ static std::vector<nns::MetaHeader> read_headers(GstBuffer *buf) {
   return hs;
 }
 
+// Decorated flexible caps against the headers of `buf`: a WARNING (once per caps) naming the
+// field, what the caps say and what the headers say. The stream goes on, as in NNStreamer,
+// which does not look at these fields.
+static void check_decoration(GstTensorDebug *self, DebugPriv *p, GstBuffer *buf) {
+  nns::TensorsInfo got;
+  got.format = nns::TensorFormat::kFlexible;
+  for (const nns::MetaHeader &h : read_headers(buf)) got.tensors.push_back(h.info());
+  try {
+    nns::gst::check_flexible_caps_fields(p->decoration.get(), got,
+                                         "the buffer's flexible headers say");
+  } catch (const nns::Error &e) {
+    p->warned_decoration = true;
+    NNS_POST_WARNING(self, std::string("the stream contradicts its caps: ") + e.what());
+  }
+}
+
 static GstFlowReturn tensor_debug_transform_ip(GstBaseTransform *trans, GstBuffer *buf) {
   auto *self = GST_TENSOR_DEBUG(trans);
   return nns::gst::guard(self, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     auto *p = self->priv;
+    if (p->decoration && !p->warned_decoration) check_decoration(self, p, buf);
     Snapshot s = snapshot(p);
     if (s.out.console == Level::kNone && s.out.gst == Level::kNone) return GST_FLOW_OK;
     bool flexible = p->config.info.format != nns::TensorFormat::kStatic;

@@ -18,6 +18,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "core/error.h"
@@ -53,6 +54,10 @@ struct FilterPriv {
 
   std::mutex engine_mu;  // start/stop/caps/transform/reload
   nns::gst::FilterEngine engine;
+  // Settings whose model could not be opened for a caps query before start (engine_mu): not
+  // retried on every query; start() opens again and reports the error.
+  std::optional<FilterSettings> query_open_failed;
+  bool started = false;  // between start() and stop() (engine_mu)
 
   // invoke-async (nullptr when off or unsupported); set in start, cleared in stop.
   // async_on lets the per-buffer path skip the lock when invoke-async is off.
@@ -175,7 +180,7 @@ static void reload_model(GstTensorFilter *self, const std::string &model,
   std::string refused;
   nns::gst::guard_void(self, [&] {
     std::lock_guard lk(p->engine_mu);
-    if (!p->engine.is_open()) return;
+    if (!p->started || !p->engine.is_open()) return;  // opened for a query only: reopened
     GST_INFO_OBJECT(self, "reloading model %s", model.c_str());
     try {
       p->engine.reload(nns::gst::split_models(model));
@@ -464,7 +469,11 @@ static gboolean gst_tensor_filter_start(GstBaseTransform *trans) {
     {
       std::lock_guard lk(p->engine_mu);
       p->engine.set_async(nullptr);
-      p->engine.open(s);
+      // A caps query before start may have opened the model with these very settings.
+      if (!p->engine.is_open() || !(p->engine.open_settings() == s)) p->engine.open(s);
+      p->engine.post_open_warnings();
+      p->query_open_failed.reset();
+      p->started = true;
       p->engine.set_profiling(s.latency_mode > 0, s.throughput_mode > 0, s.latency_report);
       if (s.invoke_async) start_async(self);
     }
@@ -482,7 +491,41 @@ static gboolean gst_tensor_filter_stop(GstBaseTransform *trans) {
   std::lock_guard lk(p->engine_mu);
   p->engine.set_async(nullptr);
   p->engine.close();
+  p->started = false;
   return TRUE;
+}
+
+// A caps query before start (the element still in NULL or READY: an application asking what
+// the model takes, a filter downstream of another one that negotiates first) is answered with
+// the model's shapes, as NNStreamer does: the model is opened now, when the settings name one,
+// and start() keeps that instance. A model that cannot be opened leaves the template answer;
+// start() opens it again and posts the error. Called with engine_mu held.
+static void open_for_query(GstTensorFilter *self) {
+  FilterPriv *p = self->priv;
+  if (p->started) return;
+  FilterSettings s;
+  {
+    std::lock_guard lk(p->settings_mu);
+    if (!p->config_problems.empty()) return;
+    s = p->settings;
+  }
+  // Opened for an earlier query: kept unless a property changed since.
+  if (p->engine.is_open() && p->engine.open_settings() == s) return;
+  p->engine.close();
+  if (s.model.empty() || (s.invoke_async && !s.output_combination.empty())) return;
+  if (p->query_open_failed && *p->query_open_failed == s) return;
+  try {
+    p->engine.open(s);
+    p->query_open_failed.reset();
+    GST_INFO_OBJECT(self, "opened %s to answer a caps query before start",
+                    p->engine.instance()->describe().c_str());
+  } catch (const std::exception &e) {
+    p->engine.close();
+    p->query_open_failed = s;
+    GST_INFO_OBJECT(self, "cannot open the model for a caps query yet: %s", e.what());
+    return;
+  }
+  update_info_snapshot(self);
 }
 
 static GstCaps *gst_tensor_filter_transform_caps(GstBaseTransform *trans, GstPadDirection direction,
@@ -491,6 +534,7 @@ static GstCaps *gst_tensor_filter_transform_caps(GstBaseTransform *trans, GstPad
   GstCaps *result = nullptr;
   {
     std::lock_guard lk(self->priv->engine_mu);
+    open_for_query(self);
     result = self->priv->engine.transform_caps(direction, caps);
   }
   GstPad *pad = direction == GST_PAD_SINK ? GST_BASE_TRANSFORM_SRC_PAD(trans)
@@ -508,6 +552,25 @@ static GstCaps *gst_tensor_filter_transform_caps(GstBaseTransform *trans, GstPad
     result = x;
   }
   return result;
+}
+
+// Fixation prefers this filter's own caps (the model's shapes) over the order the peer gave.
+// A peer that cannot tell its shapes yet (another tensor_filter whose model learns its input
+// from the caps, a tee, a queue...) answers with the template, legacy other/tensor first; the
+// default fixation would take that structure and drop the model's tensors. When nothing of ours
+// fits the peer, the peer's caps are fixated as they are, so set_caps() can name both shapes.
+static GstCaps *gst_tensor_filter_fixate_caps(GstBaseTransform *trans, GstPadDirection direction,
+                                              GstCaps *caps, GstCaps *othercaps) {
+  GstCaps *ours = gst_tensor_filter_transform_caps(trans, direction, caps, nullptr);
+  GstCaps *result = gst_caps_intersect_full(ours, othercaps, GST_CAPS_INTERSECT_FIRST);
+  gst_caps_unref(ours);
+  if (gst_caps_is_empty(result)) {
+    gst_caps_unref(result);
+    result = othercaps;
+  } else {
+    gst_caps_unref(othercaps);
+  }
+  return gst_caps_fixate(result);
 }
 
 static gboolean gst_tensor_filter_set_caps(GstBaseTransform *trans, GstCaps *incaps,
@@ -649,6 +712,21 @@ static gboolean gst_tensor_filter_src_event(GstBaseTransform *trans, GstEvent *e
   return GST_BASE_TRANSFORM_CLASS(gst_tensor_filter_parent_class)->src_event(trans, event);
 }
 
+// A model opened for a caps query while the element never started is released on the way
+// back to NULL (stop() releases it otherwise).
+static GstStateChangeReturn gst_tensor_filter_change_state(GstElement *element,
+                                                           GstStateChange transition) {
+  GstStateChangeReturn ret =
+      GST_ELEMENT_CLASS(gst_tensor_filter_parent_class)->change_state(element, transition);
+  if (transition == GST_STATE_CHANGE_READY_TO_NULL) {
+    FilterPriv *p = GST_TENSOR_FILTER(element)->priv;
+    std::lock_guard lk(p->engine_mu);
+    p->engine.close();
+    p->query_open_failed.reset();
+  }
+  return ret;
+}
+
 static void gst_tensor_filter_finalize(GObject *object) {
   auto *self = GST_TENSOR_FILTER(object);
   stop_suspend_thread(self->priv);
@@ -759,11 +837,13 @@ static void gst_tensor_filter_class_init(GstTensorFilterClass *klass) {
       "nnstreamer-cpp");
   gst_element_class_add_static_pad_template(element_class, &sink_template);
   gst_element_class_add_static_pad_template(element_class, &src_template);
+  element_class->change_state = gst_tensor_filter_change_state;
 
   trans_class->passthrough_on_same_caps = FALSE;
   trans_class->start = gst_tensor_filter_start;
   trans_class->stop = gst_tensor_filter_stop;
   trans_class->transform_caps = gst_tensor_filter_transform_caps;
+  trans_class->fixate_caps = gst_tensor_filter_fixate_caps;
   trans_class->set_caps = gst_tensor_filter_set_caps;
   trans_class->prepare_output_buffer = gst_tensor_filter_prepare_output_buffer;
   trans_class->transform = gst_tensor_filter_transform;

@@ -7,7 +7,9 @@
  * copied: the output buffer holds the input buffers' memories. Which input buffers are put
  * together is decided by `sync-mode` (nosync, slowest (default), basepad, refresh) and
  * `sync-option`, as in NNStreamer; the output PTS is the time the policy picked (the latest
- * input PTS, or the base pad's). If any input is flexible the output is flexible.
+ * input PTS, or the base pad's). If any input is flexible, or the first caps downstream accepts
+ * are flexible, the output is flexible; flexible caps downstream decorated with num_tensors /
+ * types / dimensions are checked against what goes out (docs/elements/tensor_mux.md).
  *
  *   gst-launch-1.0 videotestsrc num-buffers=10 ! tensor_converter ! mux.sink_0 \
  *     videotestsrc num-buffers=10 ! tensor_converter ! mux.sink_1 \
@@ -36,6 +38,10 @@ namespace {
 struct MuxPriv {
   std::vector<nns::TensorsConfig> in;
   bool flexible_out = false;
+  // Decorated flexible caps downstream asked for while some input is flexible: what the tensors
+  // are is known only from each frame's headers, which are checked against it.
+  nns::gst::CapsPtr decoration;
+  std::string pads;  // "sink_0 + sink_1", for messages
 };
 
 enum { PROP_0, PROP_SILENT, PROP_SYNC_MODE, PROP_SYNC_OPTION };
@@ -80,16 +86,63 @@ nns::TensorsConfig mux_configure(GstTensorSync *base, const std::vector<nns::Ten
     nns::fail(nns::ErrorKind::kNegotiation,
               "the sink pads carry " + std::to_string(total) + " tensors in all (" + per_pad +
                   "), more than the limit of " + std::to_string(nns::kTensorLimit));
-  if (flexible) {
+  nns::TensorsInfo all;  // the static inputs' tensors, in pad order
+  for (const auto &c : in)
+    all.tensors.insert(all.tensors.end(), c.info.tensors.begin(), c.info.tensors.end());
+  std::string pads;
+  for (std::size_t i = 0; i < in.size(); ++i)
+    pads += (i ? " + " : "") + (i < names.size() ? names[i] : "sink pad " + std::to_string(i));
+  // As NNStreamer: the output is flexible when an input is, or when the first caps downstream
+  // accepts are flexible (static inputs then get headers). Flexible caps downstream decorated
+  // with num_tensors / types / dimensions must describe what goes out: checked here for static
+  // inputs, per frame (from the headers) otherwise.
+  nns::gst::CapsPtr decoration;
+  GstPad *src = gst_element_get_static_pad(GST_ELEMENT(self), "src");
+  nns::gst::CapsPtr peer(gst_pad_peer_query_caps(src, nullptr));
+  gst_object_unref(src);
+  bool peer_flexible = false;
+  if (peer && !gst_caps_is_empty(peer.get()) && !gst_caps_is_any(peer.get())) {
+    nns::gst::CapsPtr first(gst_caps_copy_nth(peer.get(), 0));
+    const char *f = gst_structure_get_string(gst_caps_get_structure(first.get(), 0), "format");
+    peer_flexible =
+        gst_structure_has_name(gst_caps_get_structure(first.get(), 0), "other/tensors") && f &&
+        std::string(f) == "flexible";
+    if (peer_flexible && nns::gst::is_decorated_flexible(first.get()))
+      decoration = std::move(first);
+  }
+  if (flexible || peer_flexible) {
     out.info.format = nns::TensorFormat::kFlexible;
+    if (decoration && !flexible) {
+      nns::gst::check_flexible_caps_fields(decoration.get(), all, pads + " give");
+      decoration.reset();
+    }
   } else {
-    for (const auto &c : in)
-      out.info.tensors.insert(out.info.tensors.end(), c.info.tensors.begin(), c.info.tensors.end());
+    out.info = all;
   }
   nns::gst::sync_slowest_rate(in, &out.rate_n, &out.rate_d);
-  self->priv->in = in;
-  self->priv->flexible_out = flexible;
+  MuxPriv *p = self->priv;
+  p->in = in;
+  p->flexible_out = flexible || peer_flexible;
+  p->decoration = std::move(decoration);
+  p->pads = pads;
   return out;
+}
+
+// Decorated flexible caps downstream against this frame's headers (flexible inputs).
+void check_frame(MuxPriv *p, GstBuffer *out) {
+  nns::TensorsInfo got;
+  got.format = nns::TensorFormat::kFlexible;
+  std::size_t n = nns::gst::buffer_tensor_count(out);
+  for (std::size_t t = 0; t < n; ++t) {
+    nns::gst::MemoryPtr m(nns::gst::buffer_get_tensor(out, t));
+    got.tensors.push_back(nns::gst::memory_header(m.get()).info());
+  }
+  try {
+    nns::gst::check_flexible_caps_fields(p->decoration.get(), got,
+                                         "the frame from " + p->pads + " carries");
+  } catch (const nns::Error &e) {
+    nns::fail(nns::ErrorKind::kStream, e.what());
+  }
 }
 
 GstBuffer *mux_combine(GstTensorSync *base, GstBuffer *const *in, std::size_t n) {
@@ -127,6 +180,7 @@ GstBuffer *mux_combine(GstTensorSync *base, GstBuffer *const *in, std::size_t n)
         gst_buffer_append_memory(out.get(), gst_buffer_get_memory(in[i], m));
     }
   }
+  if (p->decoration) check_frame(p, out.get());
   return out.release();
 }
 

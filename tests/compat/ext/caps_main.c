@@ -1,11 +1,15 @@
 /* SPDX-License-Identifier: LGPL-2.1-only */
 /* Uses nnstreamer_plugin_api.h (exported by libnnstreamer.so, the plugin) from a program built
- * against the installed headers: config -> caps -> config round trip, and a 20-tensor buffer.
+ * against the installed headers: config -> caps -> config round trip, a 20-tensor buffer, and
+ * nnstreamer_plugin_api_filter.h's accelerator helpers (parse_accl_hw() as sub-plugins call it)
+ * and nnstreamer_internal.h's framework detection.
  * Prints what it got; exits 1 on the first mismatch. */
 #include <stdio.h>
 #include <string.h>
 
 #include <nnstreamer_plugin_api.h>
+#include <nnstreamer_internal.h>
+#include <nnstreamer_plugin_api_filter.h>
 
 static int fail(const char *what, const char *got) {
   printf("MISMATCH %s: %s\n", what, got ? got : "(null)");
@@ -71,6 +75,26 @@ int main(void) {
   }
   gst_buffer_unref(buf);
   gst_tensors_config_free(&c);
+
+  {
+    const char *sup[] = {ACCL_NPU_STR, ACCL_GPU_STR, ACCL_CPU_STR, NULL};
+    parse_accl_args args = {.in_accl = "true:!npu,cpu,gpu", .sup_accl = sup};
+    printf("accl %s %d %s\n", get_accl_hw_str(get_accl_hw_type("npu.edgetpu")),
+           (int)parse_accl_hw_fill(args),
+           get_accl_hw_str(parse_accl_hw("true", sup, "gpu", "cpu")));
+    if (get_accl_hw_type("npu.edgetpu") != ACCL_NPU_EDGE_TPU)
+      rc |= fail("accl type", "npu.edgetpu");
+    if (parse_accl_hw_fill(args) != ACCL_CPU) rc |= fail("parse_accl_hw", "true:!npu,cpu,gpu");
+    if (parse_accl_hw("true", sup, "gpu", "cpu") != ACCL_GPU) rc |= fail("parse_accl_hw", "true");
+    if (parse_accl_hw(NULL, sup, "gpu", "cpu") != ACCL_CPU) rc |= fail("parse_accl_hw", "NULL");
+  }
+  {
+    const gchar *models[] = {"model.tflite"};
+    gchar *fw = gst_tensor_filter_detect_framework(models, 1, FALSE);
+    printf("detected %s\n", fw ? fw : "(null)");
+    if (!fw || strcmp(fw, "tensorflow-lite") != 0) rc |= fail("detect_framework", fw);
+    g_free(fw);
+  }
   printf(rc ? "FAILED\n" : "OK\n");
   return rc;
 }
