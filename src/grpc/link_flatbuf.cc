@@ -20,8 +20,9 @@ TensorsMsg to_fb(Frame &&f) {
   std::vector<flatbuffers::Offset<fb::Tensor>> ts;
   ts.reserve(f.tensors.size());
   for (const auto &t : f.tensors) {
-    auto name = b.CreateString("Anonymous");  // upstream's name for every tensor
+    // Built in upstream's order (dimensions, name, data) so the bytes are NNStreamer's too.
     auto dims = b.CreateVector(t.dims);
+    auto name = b.CreateString("Anonymous");  // upstream's name for every tensor
     auto data = b.CreateVector(reinterpret_cast<const uint8_t *>(t.data.data()), t.data.size());
     ts.push_back(fb::CreateTensor(b, name, static_cast<fb::Tensor_type>(t.type), dims, data));
   }
@@ -146,6 +147,11 @@ struct FbImpl final : public Link::Impl, public fb::TensorService::Service {
 };
 
 }  // namespace
+
+std::string flatbuf_wire_bytes(Frame f) {
+  TensorsMsg m = to_fb(std::move(f));
+  return std::string(reinterpret_cast<const char *>(m.data()), m.size());
+}
 
 std::unique_ptr<Link::Impl> make_flatbuf_impl() {
   return std::make_unique<FbImpl>();

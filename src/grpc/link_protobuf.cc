@@ -115,6 +115,10 @@ struct PbImpl final : public Link::Impl, public pb::TensorService::Service {
 
 }  // namespace
 
+std::string protobuf_wire_bytes(Frame f) {
+  return to_proto(std::move(f)).SerializeAsString();
+}
+
 std::unique_ptr<Link::Impl> make_protobuf_impl() {
   return std::make_unique<PbImpl>();
 }

@@ -34,6 +34,10 @@ struct Frame {
 // dimensions, data of exactly the size the type and dimensions give. Returns "" or the problem.
 std::string check_frame(const Frame &f, uint32_t num_tensor_field);
 
+// The message a sender puts on the wire for `f` (for tests: pinned against NNStreamer's bytes).
+std::string protobuf_wire_bytes(Frame f);
+std::string flatbuf_wire_bytes(Frame f);
+
 enum class Role { kServer, kClient };
 enum class Direction { kSend, kReceive };  // what this end does with frames
 enum class Idl { kProtobuf, kFlatbuf };    // the `idl` property

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "core/error.h"
@@ -185,4 +187,51 @@ TEST(MqttMessage, WireDocExample) {
   EXPECT_EQ(hex(0x400), "de ad be ef ");
   for (std::size_t i = 0xc9; i < kHeaderSize; ++i) ASSERT_EQ(m[i], 0) << i;
   EXPECT_EQ(parse_message(m.data(), m.size()).caps, "application/octet-stream");
+}
+
+// A message captured on the wire from NNStreamer 2.7.0's mqttsink (nnstreamer 5b13ea6, built
+// from source; docs/interop.md): `videotestsrc pattern=ball ! video/x-raw,format=RGB,width=8,
+// height=6,framerate=10/1 ! tensor_converter ! mqttsink`, second buffer. Bytes 0x134..0x3ff
+// are zero; the payload is 144 bytes of 0xff. Ours must read every field of it, and write the
+// same 1024 header bytes from those fields.
+TEST(MqttMessage, MessageCapturedFromNNStreamer270) {
+  const std::string head_hex =
+      "0100000000000000900000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000000000000000000000000000000000000"
+      "0000000000000000000000000000000000000000000000000000000000000000"
+      "000000000000000092dfbd732ca7eb18b836c0732ca7eb1800e1f50500000000"
+      "ffffffffffffffff00e1f505000000006f746865722f74656e736f72732c2066"
+      "6f726d61743d28737472696e67297374617469632c206e756d5f74656e736f72"
+      "733d28696e7429312c206672616d65726174653d286672616374696f6e293130"
+      "2f312c2064696d656e73696f6e733d28737472696e6729333a383a363a312c20"
+      "74797065733d28737472696e672975696e743800";
+  std::vector<uint8_t> wire(kHeaderSize + 144, 0xff);
+  std::fill(wire.begin(), wire.begin() + kHeaderSize, 0);
+  for (std::size_t i = 0; i < head_hex.size() / 2; ++i)
+    wire[i] = static_cast<uint8_t>(std::stoi(head_hex.substr(2 * i, 2), nullptr, 16));
+
+  const MessageHeader h = parse_message(wire.data(), wire.size());
+  ASSERT_EQ(h.mem_sizes, std::vector<uint64_t>{144});
+  EXPECT_EQ(h.base_time_epoch, 0x18eba72c73bddf92LL);
+  EXPECT_EQ(h.sent_time_epoch, 0x18eba72c73c036b8LL);
+  EXPECT_EQ(h.sent_time_epoch - h.base_time_epoch, 153382);  // sync=false: sent at once
+  EXPECT_EQ(h.duration, 100000000u);
+  EXPECT_EQ(h.dts, kNoTime);
+  EXPECT_EQ(h.pts, 100000000u);
+  EXPECT_EQ(h.caps,
+            "other/tensors, format=(string)static, num_tensors=(int)1, framerate=(fraction)10/1, "
+            "dimensions=(string)3:8:6:1, types=(string)uint8");
+  // Rebased onto a receiver whose pipeline started 1.5 s after the sender's.
+  const Rebased r = rebase(h, h.base_time_epoch + 1500000000LL);
+  EXPECT_FALSE(r.valid);  // sent before that receiver's base time: dropped, as upstream
+  const Rebased r2 = rebase(h, h.base_time_epoch - 1500000000LL);
+  ASSERT_TRUE(r2.valid);
+  EXPECT_EQ(r2.pts, 1600000000u);
+  EXPECT_EQ(r2.dts, kNoTime);
+  EXPECT_EQ(r2.duration, 100000000u);
+
+  std::vector<uint8_t> ours(kHeaderSize);
+  write_header(h, ours.data());
+  for (std::size_t i = 0; i < kHeaderSize; ++i) ASSERT_EQ(ours[i], wire[i]) << "byte " << i;
 }

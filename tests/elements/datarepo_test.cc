@@ -252,6 +252,54 @@ TEST(Datarepo, VideoAudioOctetAndImages) {
   EXPECT_EQ(all_bytes(r.out()[1]), bytes_of(d / "img_01.png"));
 }
 
+// A repository as NNStreamer 2.7.0 writes it (nnstreamer 5b13ea6, docs/interop.md):
+// `videotestsrc ! video/x-raw,format=RGB,width=8,height=6 ! tensor_converter !
+// other/tensors,format=flexible ! datareposink`. Its meta text is json-glib's (`"key" : value`,
+// one array element a line) and its tensor headers say format 0 (static), which is what
+// NNStreamer's converter writes into a flexible header; ours writes 1. Both must be read as is.
+TEST(Datarepo, ReadsARepositoryWrittenByNNStreamer270) {
+  TempDir d;
+  {
+    std::ofstream j(d / "up.json", std::ios::binary);
+    j << "{\n  \"gst_caps\" : \"other/tensors, format=(string)flexible, "
+         "framerate=(fraction)10/1\",\n"
+         "  \"total_samples\" : 6,\n  \"sample_offset\" : [\n    0,\n    272,\n    544,\n"
+         "    816,\n    1088,\n    1360\n  ],\n  \"tensor_size\" : [\n    272,\n    272,\n"
+         "    272,\n    272,\n    272,\n    272\n  ],\n  \"tensor_count\" : [\n    0,\n"
+         "    1,\n    2,\n    3,\n    4,\n    5\n  ]\n}";
+  }
+  // NNStreamer's header: magic, version 1.0, type uint8 (5), dims 3:8:6:1, format 0, media 0.
+  const uint8_t head[28] = {0xed, 0xcc, 0xed, 0xfe, 0x00, 0x10, 0x00, 0xde, 0x05, 0x00,
+                            0x00, 0x00, 0x03, 0x00, 0x00, 0x00, 0x08, 0x00, 0x00, 0x00,
+                            0x06, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00};
+  auto sample = [&](int k) {
+    std::vector<uint8_t> s(272, 0);
+    std::copy(std::begin(head), std::end(head), s.begin());
+    for (std::size_t j = 128; j < s.size(); ++j) s[j] = uint8_t(k * 31 + j);
+    return s;
+  };
+  {
+    std::ofstream f(d / "up.dat", std::ios::binary);
+    for (int k = 0; k < 6; ++k) {
+      auto s = sample(k);
+      f.write(reinterpret_cast<const char *>(s.data()), static_cast<std::streamsize>(s.size()));
+    }
+  }
+  Pipe r(
+      "datareposrc location=" + d / "up.dat" + " json=" + d / "up.json" +
+      " is-shuffle=false start-sample-index=1 stop-sample-index=4 ! appsink name=out sync=false");
+  r.collect("out");
+  auto res = r.run();
+  ASSERT_TRUE(res.eos) << res.error_text;
+  ASSERT_EQ(r.out().size(), 4u);
+  for (int k = 1; k <= 4; ++k) {
+    GstBuffer *b = r.out()[k - 1];
+    ASSERT_EQ(gst_buffer_n_memory(b), 1u);
+    EXPECT_EQ(tensor_bytes(b, 0), sample(k)) << "sample " << k;
+    EXPECT_EQ(GST_BUFFER_PTS(b), static_cast<GstClockTime>(k - 1) * GST_MSECOND * 100);
+  }
+}
+
 TEST(Datarepo, CapsPropertyWithoutJson) {
   TempDir d;
   write_two_tensor_repo(d, 4);
