@@ -44,15 +44,15 @@ void set_string_or_list(GstStructure *s, const char *field, const std::vector<st
   gst_structure_take_value(s, field, &list);
 }
 
-// All combinations of per-tensor spellings, joined with ','; at most `limit` of them.
-std::vector<std::string> dims_variants(const TensorsInfo &info, std::size_t limit) {
+// All combinations of per-tensor spellings, joined with `sep`; at most `limit` of them.
+std::vector<std::string> dims_variants(const TensorsInfo &info, std::size_t limit, char sep) {
   std::vector<std::string> out{""};
   for (std::size_t i = 0; i < info.size(); ++i) {
     auto sp = dim_spellings(info[i].dims);
     if (out.size() * sp.size() > limit) sp.resize(1);
     std::vector<std::string> next;
     for (const auto &prefix : out)
-      for (const auto &x : sp) next.push_back(i ? prefix + "," + x : x);
+      for (const auto &x : sp) next.push_back(i ? prefix + sep + x : x);
     out = std::move(next);
   }
   return out;
@@ -242,7 +242,25 @@ GstCaps *caps_from_config(const TensorsConfig &config, bool dim_variants) {
   bool dims_known = info.format == TensorFormat::kStatic && !info.tensors.empty() &&
                     std::all_of(info.tensors.begin(), info.tensors.end(),
                                 [](const TensorInfo &t) { return t.rank() > 0; });
-  if (dim_variants && dims_known) set_string_or_list(s, "dimensions", dims_variants(info, 32));
+  if (dim_variants && dims_known) {
+    // Several tensors: also the '.'-joined lists (upstream's tests and gst-launch lines write
+    // them so, a ',' inside a field needing quotes there). Ours (',') stay first.
+    auto dl = dims_variants(info, 32, ',');
+    if (info.size() > 1) {
+      auto dot = dims_variants(info, 32, '.');
+      dl.insert(dl.end(), dot.begin(), dot.end());
+    }
+    set_string_or_list(s, "dimensions", dl);
+  }
+  bool types_known = info.format == TensorFormat::kStatic && !info.tensors.empty() &&
+                     std::all_of(info.tensors.begin(), info.tensors.end(),
+                                 [](const TensorInfo &t) { return t.type != TensorType::kEnd; });
+  if (dim_variants && types_known && info.size() > 1) {
+    std::string dot;
+    for (std::size_t i = 0; i < info.size(); ++i)
+      dot += (i ? "." : "") + std::string(type_name(info[i].type));
+    set_string_or_list(s, "types", {info.types_string(), dot});
+  }
   GstCaps *caps = gst_caps_new_full(s, nullptr);
   if (static_known && info.size() == 1) {
     GstStructure *legacy = gst_structure_new(kTensor, "type", G_TYPE_STRING,
@@ -256,6 +274,31 @@ GstCaps *caps_from_config(const TensorsConfig &config, bool dim_variants) {
     gst_caps_append_structure(caps, legacy);
   }
   return caps;
+}
+
+GstCaps *with_tensor_spellings(GstCaps *caps) {
+  if (!is_tensor_caps(caps) || !gst_caps_is_fixed(caps)) return caps;
+  try {
+    TensorsConfig cfg = config_from_caps(caps);
+    // Without a framerate the rebuilt caps would offer any rate: keep those as they are.
+    if (cfg.info.format != TensorFormat::kStatic || !cfg.info.valid() || cfg.info.size() < 2 ||
+        cfg.rate_n < 0)
+      return caps;
+    gst_caps_unref(caps);
+    return caps_from_config(cfg, true);
+  } catch (const Error &) {
+    return caps;  // not readable as a config: offered as they are
+  }
+}
+
+GstCaps *caps_in_peer_spelling(GstPad *srcpad, GstCaps *caps) {
+  GstCaps *variants = with_tensor_spellings(gst_caps_ref(caps));
+  if (variants == caps) return variants;
+  CapsPtr own(variants);
+  CapsPtr peer(gst_pad_peer_query_caps(srcpad, variants));
+  if (!peer || gst_caps_is_empty(peer.get()) || gst_caps_can_intersect(peer.get(), caps))
+    return gst_caps_ref(caps);
+  return gst_caps_fixate(peer.release());
 }
 
 GstCaps *caps_for_format(TensorFormat format, int rate_n, int rate_d) {

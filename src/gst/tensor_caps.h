@@ -48,9 +48,17 @@ TensorsConfig config_from_caps(const GstCaps *caps);
 // Fixed caps for a complete config. A single static tensor also gets a second, legacy
 // other/tensor structure so peers that only accept other/tensor still link.
 // If `dim_variants`, dimension strings are given as lists of equivalent spellings
-// (trailing ":1" added or dropped) so a capsfilter written either way intersects.
+// (trailing ":1" added or dropped) so a capsfilter written either way intersects; with several
+// tensors, dimensions and types are also offered joined with "." (upstream's spelling).
 GstCaps *caps_from_config(const TensorsConfig &config, bool dim_variants = false);
 GstStructure *structure_from_config(const TensorsConfig &config);
+// Takes `caps`; when they are fixed static caps of several tensors, returns
+// caps_from_config(config, true) for them (the same config, also in the '.'-joined
+// spellings), else `caps` unchanged. For sources whose caps come as a string from a peer or file.
+GstCaps *with_tensor_spellings(GstCaps *caps);
+// Fixed `caps` (not taken) in the spelling the peer of `srcpad` takes, by with_tensor_spellings;
+// a new reference to `caps` itself when the peer takes none of them or they have no variants.
+GstCaps *caps_in_peer_spelling(GstPad *srcpad, GstCaps *caps);
 
 // Caps describing `format` with the given rate (or any rate if rate_n < 0).
 GstCaps *caps_for_format(TensorFormat format, int rate_n = -1, int rate_d = -1);

@@ -196,14 +196,16 @@ void negotiate(GstTensorSync *self, SyncPriv *p) {
   nns::TensorsConfig out = klass->configure(self, p->neg_configs, p->neg_names);
   // The output caps: our config, in the first form (other/tensors, else other/tensor) that
   // downstream accepts.
-  nns::gst::CapsPtr want(nns::gst::caps_from_config(out));
+  // Several tensors' fields may also be spelled with '.' downstream (upstream's spelling).
+  nns::gst::CapsPtr want(nns::gst::caps_from_config(out, gst_pad_is_linked(p->src)));
   nns::gst::CapsPtr caps;
   if (gst_pad_is_linked(p->src)) {
     caps.reset(gst_pad_peer_query_caps(p->src, want.get()));
     if (!caps || gst_caps_is_empty(caps.get())) {
       nns::gst::CapsPtr allowed(gst_pad_peer_query_caps(p->src, nullptr));
+      nns::gst::CapsPtr plain(nns::gst::caps_from_config(out));
       nns::fail(nns::ErrorKind::kNegotiation, "downstream does not accept the output caps " +
-                                                  nns::gst::caps_to_string(want.get()) +
+                                                  nns::gst::caps_to_string(plain.get()) +
                                                   " (it accepts " +
                                                   nns::gst::caps_to_string(allowed.get()) + ")");
     }

@@ -4,6 +4,8 @@
 #include <cstring>
 
 #include "edge_test_util.h"
+#include "gst/gst_ptr.h"
+#include "gst/tensor_caps.h"
 #include "support/harness.h"
 
 using namespace edge_test;
@@ -146,4 +148,90 @@ TEST(Edge, NoSubscriberDropsWithoutWaiting) {
   auto r = nns::test::run_pipeline(
       "videotestsrc num-buffers=5 ! edgesink host=127.0.0.1 port=0 sync=false", 5);
   EXPECT_TRUE(r.eos) << r.error_text;
+}
+
+namespace {
+// Two tensors, 3:4:2 uint8 and 5 float32 (44 bytes), as our edgesink announces them.
+const char *kTwoTensors =
+    "other/tensors,format=static,num_tensors=2,dimensions=(string)\"3:4:2,5\","
+    "types=(string)\"uint8,float32\",framerate=(fraction)0/1";
+
+// A subscriber `edgesrc ! <filter> ! appsink` of a publisher of kTwoTensors; returns the
+// subscriber's first sample (nullptr if none came) and its bus error text in `error`.
+GstSample *subscribe_with_filter(const std::string &filter, std::string *error) {
+  const uint16_t port = free_port();
+  AppPipeline pub(
+      "edgesink host=127.0.0.1 port=" + std::to_string(port) + " wait-connection=true sync=false",
+      kTwoTensors, true);
+  pub.play();
+  for (int i = 0; i < 200 && !port_open(port); ++i) std::this_thread::sleep_for(10ms);
+  std::thread feeder([&] {
+    for (int n = 0; n < 2; ++n) pub.push(std::vector<uint8_t>(44, static_cast<uint8_t>(n)), 0);
+  });
+  std::this_thread::sleep_for(50ms);
+  GstElement *sub =
+      gst_parse_launch(("edgesrc name=s dest-host=127.0.0.1 dest-port=" + std::to_string(port) +
+                        " ! " + filter + " ! appsink name=k sync=false")
+                           .c_str(),
+                       nullptr);
+  EXPECT_TRUE(sub);
+  if (!sub) {
+    feeder.join();
+    return nullptr;
+  }
+  gst_element_set_state(sub, GST_STATE_PLAYING);
+  GstElement *k = gst_bin_get_by_name(GST_BIN(sub), "k");
+  feeder.join();
+  pub.push(std::vector<uint8_t>(44, 7), 0);
+  GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(k), 3 * GST_SECOND);
+  GstBus *bus = gst_element_get_bus(sub);
+  if (GstMessage *m = gst_bus_pop_filtered(bus, GST_MESSAGE_ERROR)) {
+    GError *e = nullptr;
+    gchar *dbg = nullptr;
+    gst_message_parse_error(m, &e, &dbg);
+    *error = std::string(e->message) + " | " + (dbg ? dbg : "");
+    g_error_free(e);
+    g_free(dbg);
+    gst_message_unref(m);
+  }
+  gst_object_unref(bus);
+  pub.stop();
+  gst_element_set_state(sub, GST_STATE_NULL);
+  gst_object_unref(k);
+  gst_object_unref(sub);
+  return s;
+}
+}  // namespace
+
+// A capsfilter written as upstream's tests write several tensors ('.' between them, no quotes)
+// negotiates with the publisher's caps: the same config, the filter's spelling downstream.
+TEST(Edge, DotSpelledCapsfilterAfterEdgesrc) {
+  std::string error;
+  GstSample *s = subscribe_with_filter(
+      "other/tensors,format=static,num_tensors=2,types=uint8.float32,dimensions=3:4:2:1.5,"
+      "framerate=0/1",
+      &error);
+  ASSERT_TRUE(s) << error;
+  GstCaps *caps = gst_sample_get_caps(s);
+  nns::gst::CapsPtr want(gst_caps_from_string(kTwoTensors));
+  EXPECT_TRUE(nns::gst::config_from_caps(caps).same_as(nns::gst::config_from_caps(want.get())))
+      << nns::gst::caps_to_string(caps);
+  const GstStructure *st = gst_caps_get_structure(caps, 0);
+  EXPECT_STREQ(gst_structure_get_string(st, "types"), "uint8.float32");
+  EXPECT_STREQ(gst_structure_get_string(st, "dimensions"), "3:4:2:1.5");
+  std::vector<uint8_t> bytes(gst_buffer_get_size(gst_sample_get_buffer(s)));
+  gst_buffer_extract(gst_sample_get_buffer(s), 0, bytes.data(), bytes.size());
+  EXPECT_EQ(bytes.size(), 44u);
+  gst_sample_unref(s);
+}
+
+// The same filter with another dimension fails, naming the publisher's caps and the filter's.
+TEST(Edge, DotSpelledCapsfilterWithOtherDimensionsFails) {
+  std::string error;
+  GstSample *s = subscribe_with_filter(
+      "other/tensors,format=static,num_tensors=2,types=uint8.float32,dimensions=3:4:2.6", &error);
+  EXPECT_FALSE(s);
+  if (s) gst_sample_unref(s);
+  EXPECT_NE(error.find("3:4:2\\,5"), std::string::npos) << error;
+  EXPECT_NE(error.find("3:4:2.6"), std::string::npos) << error;
 }

@@ -384,3 +384,27 @@ TEST(Datarepo, OctetAndTextSamples) {
     EXPECT_EQ(all_bytes(r.out()[1]), (std::vector<uint8_t>{'c', 'd', 'e', '\n'})) << caps;
   }
 }
+
+// The repository's caps are '.'-spelled (as written by the appsrc above): a capsfilter with
+// either spelling of several tensors negotiates the same config.
+TEST(Datarepo, CapsfilterInEitherSpellingOfSeveralTensors) {
+  TempDir d;
+  write_two_tensor_repo(d, 2);
+  for (const std::string &filter :
+       {std::string("other/tensors,num_tensors=2,dimensions=(string)\"3:1,2\","
+                    "types=(string)\"uint8,float32\""),
+        std::string("other/tensors,num_tensors=2,dimensions=3.2:1,types=uint8.float32")}) {
+    SCOPED_TRACE(filter);
+    Pipe r("datareposrc location=" + d / "s.dat" + " json=" + d / "s.json" +
+           " is-shuffle=false ! " + filter + " ! appsink name=out sync=false");
+    r.collect("out");
+    auto res = r.run();
+    ASSERT_TRUE(res.eos) << res.error_text;
+    ASSERT_EQ(r.out().size(), 2u);
+    EXPECT_EQ(tensor_bytes(r.out()[1], 1), two_tensors(1)[1]);
+  }
+  // Other dimensions do not negotiate.
+  auto bad = run_pipeline("datareposrc location=" + d / "s.dat" + " json=" + d / "s.json" +
+                          " ! other/tensors,dimensions=3:1.3,types=uint8.float32 ! fakesink");
+  EXPECT_TRUE(bad.error);
+}

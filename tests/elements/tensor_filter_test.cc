@@ -413,3 +413,26 @@ TEST(TensorFilter, CapsfilterAskingAnotherTypeFailsNamingBoth) {
   EXPECT_NE(r.error_text.find("say types=float32"), std::string::npos) << r.error_text;
   EXPECT_NE(r.error_text.find("produces uint8"), std::string::npos) << r.error_text;
 }
+
+// Several tensors spelled with '.' between them (upstream's tests and gst-launch lines) in
+// capsfilters before and after the filter negotiate; other dimensions fail naming both.
+TEST(TensorFilter, DotSpelledCapsfiltersAroundTwoTensors) {
+  ScopedEnv conf("NNSTREAMER_CONF", test_ini());
+  const std::string model = write_temp("m.echo", "echo");
+  const std::string two =
+      "videotestsrc num-buffers=2 ! video/x-raw,format=RGB,width=8,height=6,framerate=30/1 ! "
+      "tensor_converter ! mux.sink_0 "
+      "videotestsrc num-buffers=2 ! video/x-raw,format=GRAY8,width=4,height=2,framerate=30/1 ! "
+      "tensor_converter ! tensor_transform mode=typecast option=float32 ! mux.sink_1 "
+      "tensor_mux name=mux ! ";
+  const std::string dot =
+      "other/tensors,num_tensors=2,types=uint8.float32,dimensions=3:8:6:1.1:4:2:1 ! ";
+  auto r = run_pipeline(two + dot + "tensor_filter framework=testecho model=" + model + " ! " +
+                        dot + "fakesink");
+  EXPECT_TRUE(r.eos) << r.error_text;
+  r = run_pipeline(two + "tensor_filter name=f framework=testecho model=" + model +
+                   " ! other/tensors,types=uint8.float32,dimensions=3:8:6:1.1:4:3:1 ! fakesink");
+  ASSERT_TRUE(r.error) << "negotiated";
+  EXPECT_NE(r.error_text.find("3:8:6:1.1:4:3:1"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("1:4:2:1"), std::string::npos) << r.error_text;
+}

@@ -220,6 +220,52 @@ TEST_P(TensorGrpcIdl, SinkServerToSrcClient) {
   }
 }
 
+// A downstream capsfilter written as upstream's tests write several tensors ('.' between them,
+// no quotes) negotiates with the frames' caps: same config, the filter's spelling downstream.
+TEST(TensorGrpc, DotSpelledCapsfilterAfterSrc) {
+  const Shape &s = kShapes[0];  // 3:4:2,5 uint8,float32 at 30/1
+  const char *dot =
+      "other/tensors,format=static,num_tensors=2,types=uint8.float32,dimensions=3:4:2.5,"
+      "framerate=30/1";
+  const uint16_t port = mqtt_test::free_port();
+  Pipe rx(rx_desc("port=" + std::to_string(port) + " ! " + dot));
+  rx.play();
+  ASSERT_TRUE(rx.wait_state("src", GST_STATE_PAUSED));
+  Pipe tx(tx_desc("port=" + std::to_string(port)));
+  set_caps(tx, s.caps);
+  tx.play();
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(gst_app_src_push_buffer(GST_APP_SRC(tx.get("in")), make_buffer(s.sizes, i)),
+              GST_FLOW_OK);
+  expect_frames(rx, s, 2);
+  GstPad *pad = gst_element_get_static_pad(rx.get("src"), "src");
+  nns::gst::CapsPtr cur(gst_pad_get_current_caps(pad));
+  gst_object_unref(pad);
+  ASSERT_TRUE(cur);
+  const GstStructure *st = gst_caps_get_structure(cur.get(), 0);
+  EXPECT_STREQ(gst_structure_get_string(st, "types"), "uint8.float32");
+  EXPECT_STREQ(gst_structure_get_string(st, "dimensions"), "3:4:2.5");
+}
+
+// The same filter with another dimension still fails, naming the frames' caps and the filter's.
+TEST(TensorGrpc, DotSpelledCapsfilterWithOtherDimensionsFails) {
+  const Shape &s = kShapes[0];
+  const uint16_t port = mqtt_test::free_port();
+  Pipe rx(rx_desc("port=" + std::to_string(port) +
+                  " ! other/tensors,format=static,num_tensors=2,types=uint8.float32,"
+                  "dimensions=3:4:2.6,framerate=30/1"));
+  rx.play();
+  ASSERT_TRUE(rx.wait_state("src", GST_STATE_PAUSED));
+  Pipe tx(tx_desc("port=" + std::to_string(port)));
+  set_caps(tx, s.caps);
+  tx.play();
+  ASSERT_EQ(gst_app_src_push_buffer(GST_APP_SRC(tx.get("in")), make_buffer(s.sizes, 0)),
+            GST_FLOW_OK);
+  const std::string err = rx.wait_end();
+  EXPECT_NE(err.find("dimensions=(string)\"3:4:2\\,5\""), std::string::npos) << err;
+  EXPECT_NE(err.find("3:4:2.6"), std::string::npos) << err;
+}
+
 // A peer speaking NNStreamer's service directly (the generated stub) with a frame whose data
 // does not match its dimensions: the server errors naming the client and the problem.
 TEST(TensorGrpc, BadMessageFromAPeer) {

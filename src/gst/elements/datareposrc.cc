@@ -383,6 +383,8 @@ static GstCaps *src_get_caps(GstBaseSrc *bsrc, GstCaps *filter) {
     std::lock_guard<std::mutex> l(p->lock);
     if (p->out_caps) caps = gst_caps_ref(p->out_caps);
   }
+  // Static tensors also in their '.'-joined spellings, so a capsfilter written so intersects.
+  if (caps) caps = nns::gst::with_tensor_spellings(caps);
   if (!caps) caps = gst_caps_new_any();
   if (filter) {
     GstCaps *i = gst_caps_intersect_full(filter, caps, GST_CAPS_INTERSECT_FIRST);

@@ -153,6 +153,8 @@ static GstCaps *edgesrc_get_caps(GstBaseSrc *bsrc, GstCaps *filter) {
     std::lock_guard<std::mutex> l(p->lock);
     if (!p->publisher_caps.empty()) caps = gst_caps_from_string(p->publisher_caps.c_str());
   }
+  // Static tensors also in their '.'-joined spellings, so a capsfilter written so intersects.
+  if (caps) caps = nns::gst::with_tensor_spellings(caps);
   if (!caps) caps = gst_pad_get_pad_template_caps(GST_BASE_SRC_PAD(bsrc));
   if (filter) {
     GstCaps *i = gst_caps_intersect_full(filter, caps, GST_CAPS_INTERSECT_FIRST);
@@ -160,6 +162,25 @@ static GstCaps *edgesrc_get_caps(GstBaseSrc *bsrc, GstCaps *filter) {
     caps = i;
   }
   return caps;
+}
+
+// The default negotiation; when downstream takes none of the publisher's caps, an error naming
+// both (basesrc alone would only say not-negotiated).
+static gboolean edgesrc_negotiate(GstBaseSrc *bsrc) {
+  if (GST_BASE_SRC_CLASS(gst_edgesrc_parent_class)->negotiate(bsrc)) return TRUE;
+  auto *p = GST_EDGESRC(bsrc)->priv;
+  std::string publisher;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    publisher = p->publisher_caps;
+  }
+  if (!publisher.empty()) {
+    nns::gst::CapsPtr peer(gst_pad_peer_query_caps(GST_BASE_SRC_PAD(bsrc), nullptr));
+    NNS_POST_ERROR(bsrc, nns::ErrorKind::kNegotiation,
+                   "downstream accepts " + nns::gst::caps_to_string(peer.get()) +
+                       " but the publisher's caps are " + publisher);
+  }
+  return FALSE;
 }
 
 static gboolean edgesrc_unlock(GstBaseSrc *bsrc) {
@@ -241,6 +262,7 @@ static void gst_edgesrc_class_init(GstEdgeSrcClass *klass) {
   basesrc->start = edgesrc_start;
   basesrc->stop = edgesrc_stop;
   basesrc->get_caps = edgesrc_get_caps;
+  basesrc->negotiate = edgesrc_negotiate;
   basesrc->unlock = edgesrc_unlock;
   basesrc->unlock_stop = edgesrc_unlock_stop;
   pushsrc->create = edgesrc_create;

@@ -30,6 +30,7 @@
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/mqtt_common.h"
+#include "gst/tensor_caps.h"
 #include "mqtt/mqtt_client.h"
 #include "mqtt/mqtt_message.h"
 
@@ -313,10 +314,17 @@ static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer 
             nns::fail(nns::ErrorKind::kStream, "topic '" + p->run.topic + "': the caps string '" +
                                                    h.caps + "' in the message header is not " +
                                                    "fixed caps");
-          if (!gst_base_src_set_caps(src, caps.get()))
-            nns::fail(nns::ErrorKind::kNegotiation, "topic '" + p->run.topic +
-                                                        "': downstream does not accept the caps " +
-                                                        h.caps + " of the received stream");
+          // Several tensors: in the spelling downstream takes ('.' between tensors or ',').
+          caps.reset(nns::gst::caps_in_peer_spelling(GST_BASE_SRC_PAD(src), caps.get()));
+          GstPad *pad = GST_BASE_SRC_PAD(src);
+          if ((gst_pad_is_linked(pad) && !gst_pad_peer_query_accept_caps(pad, caps.get())) ||
+              !gst_base_src_set_caps(src, caps.get())) {
+            nns::gst::CapsPtr peer(gst_pad_peer_query_caps(GST_BASE_SRC_PAD(src), nullptr));
+            nns::fail(nns::ErrorKind::kNegotiation,
+                      "topic '" + p->run.topic + "': downstream does not accept the caps " +
+                          h.caps + " of the received stream (it accepts " +
+                          nns::gst::caps_to_string(peer.get()) + ")");
+          }
           p->caps = h.caps;
         }
       }

@@ -182,12 +182,17 @@ static GstFlowReturn src_grpc_create(GstPushSrc *psrc, GstBuffer **out) {
     }
     nns::TensorsConfig c = gg::config_of(f);
     if (!c.same_as(p->config)) {
-      nns::gst::CapsPtr mine(nns::gst::caps_from_config(c));
+      // Variant spellings: downstream may write several tensors' fields with '.'.
+      nns::gst::CapsPtr mine(nns::gst::caps_from_config(c, true));
       nns::gst::CapsPtr caps(gst_pad_peer_query_caps(GST_BASE_SRC_PAD(src), mine.get()));
-      if (!caps || gst_caps_is_empty(caps.get()))
+      if (!caps || gst_caps_is_empty(caps.get())) {
+        nns::gst::CapsPtr plain(nns::gst::caps_from_config(c));
+        nns::gst::CapsPtr peer(gst_pad_peer_query_caps(GST_BASE_SRC_PAD(src), nullptr));
         nns::fail(nns::ErrorKind::kNegotiation,
                   "downstream does not accept the caps of the frames from " + p->link->peer() +
-                      ": " + nns::gst::caps_to_string(mine.get()));
+                      ": " + nns::gst::caps_to_string(plain.get()) + " (it accepts " +
+                      nns::gst::caps_to_string(peer.get()) + ")");
+      }
       caps.reset(gst_caps_fixate(caps.release()));
       if (!gst_base_src_set_caps(src, caps.get()))
         nns::fail(nns::ErrorKind::kNegotiation,
