@@ -154,6 +154,9 @@ TEST(Subplugins2x, V1FilterInvokeDynamicFlexibleOutput) {
   ASSERT_EQ(f.size(), 1u);
   ASSERT_EQ(f[0].mems.size(), 1u);
   ASSERT_EQ(f[0].mems[0].size(), 128u + 16u) << "flexible header + 4 float32";
+  // NNStreamer marks invoke-dynamic output headers flexible: format word (offset 76) = 1.
+  EXPECT_EQ(f[0].mems[0][76], 1u);
+  EXPECT_EQ(f[0].mems[0][80], 4u) << "media type tensor";
   EXPECT_EQ(values_of<float>(Bytes(f[0].mems[0].begin() + 128, f[0].mems[0].end())),
             (std::vector<float>{2.f, 3.f, 4.f, 5.f}));
   EXPECT_NE(f[0].caps.find("flexible"), std::string::npos) << f[0].caps;
