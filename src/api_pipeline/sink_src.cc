@@ -470,10 +470,7 @@ NNS_CAPI int ml_pipeline_src_input_data(ml_pipeline_src_h src_handle, ml_tensors
                                  give ? ptr : nullptr, give ? GDestroyNotify(std::free) : nullptr);
       TensorInfo ti = i < d->info.size() ? d->info[i] : TensorInfo{};
       if (flexible) {
-        MetaHeader mh;
-        mh.type = ti.type;
-        mh.dims = ti.dims;
-        mh.format = TensorFormat::kFlexible;
+        const MetaHeader mh = flexible_header(ti.type, ti.dims);
         GstMemory *with = gst::memory_with_header(mh, mem);
         gst_memory_unref(mem);
         mem = with;

@@ -33,6 +33,17 @@ std::size_t MetaHeader::payload_size() const {
   return element_count(dims) * type_size(type);
 }
 
+MetaHeader flexible_header(TensorType type, const Dims &dims, MediaType media,
+                           FlexHeaderKind kind) {
+  MetaHeader h;
+  h.type = type;
+  h.dims = dims;
+  h.format =
+      kind == FlexHeaderKind::kMarkedFlexible ? TensorFormat::kFlexible : TensorFormat::kStatic;
+  h.media_type = media;
+  return h;
+}
+
 void write_meta_header(const MetaHeader &h, uint8_t *dst) {
   std::memset(dst, 0, kMetaHeaderSize);
   put32(dst, kMetaMagic);

@@ -27,6 +27,18 @@ struct MetaHeader {
   std::size_t payload_size() const;
 };
 
+// The `format` word a flexible tensor's header carries, as NNStreamer 2.x writes it. Most of its
+// writers fill the header from the tensor's info and leave the initial value, static (0):
+// tensor_converter, tensor_transform, tensor_mux, tensor_filter's negotiated flexible output and
+// every static-to-flexible conversion. tensor_crop and tensor_filter with invoke-dynamic (also
+// through the async dispatch) mark it flexible (1). Only sparse (2) changes the layout, so
+// readers must take 0 and 1 alike (older nnstreamer-cpp wrote 1 everywhere).
+enum class FlexHeaderKind { kFromInfo, kMarkedFlexible };
+
+// The header of one flexible tensor; every writer of flexible headers goes through here.
+MetaHeader flexible_header(TensorType type, const Dims &dims, MediaType media = MediaType::kTensor,
+                           FlexHeaderKind kind = FlexHeaderKind::kFromInfo);
+
 void write_meta_header(const MetaHeader &h, uint8_t *dst);  // writes kMetaHeaderSize bytes
 // True when `src` starts with a header (magic and version match).
 bool has_meta_header(const uint8_t *src, std::size_t size);

@@ -32,7 +32,9 @@ std::string describe_tensors(const TensorsInfo &info) {
 }
 
 std::string describe_headers(const std::vector<MetaHeader> &headers) {
-  std::string fmt = headers.empty() ? "flexible" : std::string(format_name(headers[0].format));
+  // Flexible headers carry format 0 or 1 (see flexible_header()); only sparse differs.
+  const bool sparse = !headers.empty() && headers[0].format == TensorFormat::kSparse;
+  std::string fmt = sparse ? "sparse" : "flexible";
   std::string s = fmt + ", " + std::to_string(headers.size()) + " tensor(s)";
   for (std::size_t i = 0; i < headers.size(); ++i) {
     s += (i ? ", [" : ": [") + std::to_string(i) + "] " + headers[i].info().to_string();
@@ -51,7 +53,8 @@ std::string describe_timestamps(uint64_t pts, uint64_t dts, uint64_t duration, u
 bool same_headers(const std::vector<MetaHeader> &a, const std::vector<MetaHeader> &b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].type != b[i].type || !dims_equal(a[i].dims, b[i].dims) || a[i].format != b[i].format)
+    if (a[i].type != b[i].type || !dims_equal(a[i].dims, b[i].dims) ||
+        (a[i].format == TensorFormat::kSparse) != (b[i].format == TensorFormat::kSparse))
       return false;
   return true;
 }

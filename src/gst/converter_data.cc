@@ -101,17 +101,15 @@ GstFlowReturn push_out(ConverterState *p, GstBuffer *buf) {
     guint n = gst_buffer_n_memory(out.get());
     for (guint i = 0; i < n; ++i) {
       GstMemory *mem = gst_buffer_peek_memory(out.get(), i);
-      nns::MetaHeader h;
-      if (i < info.size() && info.format == TensorFormat::kStatic) {
-        h.type = info[i].type;
-        h.dims = info[i].dims;
-      } else {  // octet stream: the whole buffer as bytes
-        h.type = nns::TensorType::kUInt8;
-        h.dims = nns::make_dims(
-            {static_cast<uint32_t>(gst_memory_get_sizes(mem, nullptr, nullptr)), 1, 1, 1});
-      }
-      h.format = TensorFormat::kFlexible;
-      h.media_type = media_type_of(p->media.kind);
+      const bool described = i < info.size() && info.format == TensorFormat::kStatic;
+      // Octet stream without a description: the whole buffer as bytes.
+      const nns::MetaHeader h = nns::flexible_header(
+          described ? info[i].type : nns::TensorType::kUInt8,
+          described
+              ? info[i].dims
+              : nns::make_dims(
+                    {static_cast<uint32_t>(gst_memory_get_sizes(mem, nullptr, nullptr)), 1, 1, 1}),
+          media_type_of(p->media.kind));
       gst_buffer_append_memory(flex.get(), memory_with_header(h, mem));
     }
     gst_buffer_copy_into(flex.get(), out.get(), GST_BUFFER_COPY_METADATA, 0, -1);

@@ -323,13 +323,11 @@ GstBuffer *AsyncDispatcher::build(const nns_filter_async_ctx &ctx, const nns_ten
     GstMemory *m = gst_allocator_alloc(nullptr, hsize + out[i].size, nullptr);
     {
       MemoryMap mm(m, GST_MAP_WRITE);
-      if (hsize) {
-        MetaHeader h;
-        h.type = got[i].type;
-        h.dims = got[i].dims;
-        h.format = TensorFormat::kFlexible;
-        write_meta_header(h, mm.data());
-      }
+      if (hsize)  // invoke-dynamic (no negotiated tensors) marks it, as NNStreamer does
+        write_meta_header(flexible_header(got[i].type, got[i].dims, MediaType::kTensor,
+                                          negotiated.size() == 0 ? FlexHeaderKind::kMarkedFlexible
+                                                                 : FlexHeaderKind::kFromInfo),
+                          mm.data());
       if (out[i].size) std::memcpy(mm.data() + hsize, out[i].data, out[i].size);
     }
     if (n <= kMemoryMax)

@@ -384,11 +384,8 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
   out_headers_.assign(model_out_.size(), {});
   if (out_flexible_)
     for (std::size_t i = 0; i < model_out_.size(); ++i) {
-      MetaHeader h;
-      h.type = model_out_[i].type;
-      h.dims = model_out_[i].dims;
-      h.format = TensorFormat::kFlexible;
-      write_meta_header(h, out_headers_[i].data());
+      write_meta_header(flexible_header(model_out_[i].type, model_out_[i].dims),
+                        out_headers_[i].data());
     }
   if (invoke_dynamic_) {
     dyn_in_ = new_desc();
@@ -458,11 +455,7 @@ void FilterEngine::release_outputs(bool free_mems) {
 GstMemory *FilterEngine::pass_input(std::size_t i) {
   InTensor &t = in_[i];
   if (!in_flexible_ && out_flexible_) {
-    MetaHeader h;
-    h.type = frame_in_[i].type;
-    h.dims = frame_in_[i].dims;
-    h.format = TensorFormat::kFlexible;
-    return memory_with_header(h, t.mem);
+    return memory_with_header(flexible_header(frame_in_[i].type, frame_in_[i].dims), t.mem);
   }
   if (in_flexible_ && !out_flexible_) return gst_memory_share(t.mem, kMetaHeaderSize, -1);
   return gst_memory_ref(t.mem);
@@ -616,10 +609,8 @@ GstFlowReturn FilterEngine::process(GstBuffer *inbuf, GstBuffer *outbuf) {
     for (std::size_t o = 0; o < dyn_info.size(); ++o) {
       void *data = out_tm_[o].data;
       if (combi_.keeps_output(static_cast<uint32_t>(o)) && data) {
-        MetaHeader h;
-        h.type = dyn_info[o].type;
-        h.dims = dyn_info[o].dims;
-        h.format = TensorFormat::kFlexible;
+        const MetaHeader h = flexible_header(dyn_info[o].type, dyn_info[o].dims, MediaType::kTensor,
+                                             FlexHeaderKind::kMarkedFlexible);
         GstMemory *m = gst_allocator_alloc(nullptr, kMetaHeaderSize + out_tm_[o].size, nullptr);
         MemoryMap mm(m, GST_MAP_WRITE);
         write_meta_header(h, mm.data());

@@ -112,6 +112,35 @@ TEST(Subplugins2x, V1FilterModelInfoCustomAndAccelerator) {
   EXPECT_EQ(c[0], c[1]);
 }
 
+// The accelerator list a version-1 sub-plugin gets in open(), as NNStreamer 2.7 fills
+// prop->hw_list / num_hw: nothing when the property is unset; otherwise the "true:..." names
+// the framework supports, in order (none of them named: auto), auto and default resolved to the
+// framework's choice; anything not starting with "true": ACCL_NONE.
+TEST(Subplugins2x, V1FilterAcceleratorListAsNNStreamer) {
+  Folders folders;
+  const int cpu = ACCL_CPU, none = ACCL_NONE;
+  struct Case {
+    std::string prop;
+    std::vector<int> want;  // num_hw, hw_list[0..3] (-1 past the end)
+  };
+  const Case cases[] = {
+      {"", {0, -1, -1, -1, -1}},
+      {"accelerator=true:cpu", {1, cpu, -1, -1, -1}},
+      {"accelerator=true:auto", {1, cpu, -1, -1, -1}},
+      {"accelerator=true:default", {1, cpu, -1, -1, -1}},
+      {"accelerator=true:npu", {1, cpu, -1, -1, -1}},
+      {"accelerator=true", {1, cpu, -1, -1, -1}},
+      {"accelerator=true:cpu,default,!auto", {2, cpu, cpu, -1, -1}},
+      {"accelerator=false", {1, none, -1, -1, -1}},
+  };
+  for (const Case &c : cases) {
+    SCOPED_TRACE(c.prop);
+    run_pipeline(fake_source(4, tensors_caps("uint8", "4:1"), 1) +
+                 "tensor_filter framework=twox_v1 " + c.prop + " ! fakesink");
+    EXPECT_EQ(counters<5>("libnnstreamer_filter_twox_v1.so", "nns2x_v1_last_accelerators"), c.want);
+  }
+}
+
 TEST(Subplugins2x, V1FilterInvokeDynamicFlexibleOutput) {
   Folders folders;
   AppPipeline p(
@@ -125,6 +154,9 @@ TEST(Subplugins2x, V1FilterInvokeDynamicFlexibleOutput) {
   ASSERT_EQ(f.size(), 1u);
   ASSERT_EQ(f[0].mems.size(), 1u);
   ASSERT_EQ(f[0].mems[0].size(), 128u + 16u) << "flexible header + 4 float32";
+  // NNStreamer marks invoke-dynamic output headers flexible: format word (offset 76) = 1.
+  EXPECT_EQ(f[0].mems[0][76], 1u);
+  EXPECT_EQ(f[0].mems[0][80], 4u) << "media type tensor";
   EXPECT_EQ(values_of<float>(Bytes(f[0].mems[0].begin() + 128, f[0].mems[0].end())),
             (std::vector<float>{2.f, 3.f, 4.f, 5.f}));
   EXPECT_NE(f[0].caps.find("flexible"), std::string::npos) << f[0].caps;

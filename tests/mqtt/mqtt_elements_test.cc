@@ -289,6 +289,9 @@ TEST(MqttElements, RoundTripTensorsAndVideo) {
     }
     EXPECT_EQ(rx.errors(), "");
     EXPECT_EQ(tx.errors(), "");
+    // A normal run connects once: neither end may call that a reconnect (or post anything).
+    EXPECT_EQ(rx.warnings(), "");
+    EXPECT_EQ(tx.warnings(), "");
   }
 }
 

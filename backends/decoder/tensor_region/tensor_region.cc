@@ -144,12 +144,8 @@ GstFlowReturn tr_decode(void **pdata, const GstTensorsConfig *config, const GstT
     d->err.set("tensor_region: cannot map the output memory");
     return GST_FLOW_ERROR;
   }
-  nns::MetaHeader h;
-  h.type = nns::TensorType::kUInt32;
-  h.dims = nns::make_dims({4, d->num});
-  h.format = nns::TensorFormat::kFlexible;
-  h.media_type = nns::MediaType::kTensor;
-  nns::write_meta_header(h, map.data);
+  nns::write_meta_header(
+      nns::flexible_header(nns::TensorType::kUInt32, nns::make_dims({4, d->num})), map.data);
   auto *out = reinterpret_cast<uint32_t *>(map.data + nns::kMetaHeaderSize);
   std::memset(out, 0, payload);
   for (std::size_t i = 0; i < d->boxes.size() && i < d->num; ++i) {

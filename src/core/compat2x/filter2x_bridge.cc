@@ -78,12 +78,13 @@ bool accl_of(std::string s, accl_hw &out) {
 }
 
 // NNStreamer's reading of accelerator= for version 1 tables (nns::accl::match_all over the
-// framework's accelerators plus auto and default): unset -> the framework's default;
+// framework's accelerators plus auto and default): unset -> no list at all (num_hw 0: NNStreamer
+// only parses the property when it was given, and a sub-plugin then picks its own default);
 // "true[:a,b]" -> the listed accelerators the framework supports, in the given order (none of
 // them: auto); anything else -> none. auto/default map to the framework's choice.
 std::vector<accl_hw> parse_accelerators(const Filter2x &f, const char *accl) {
   std::vector<accl_hw> out;
-  if (f.hw.empty()) return out;
+  if (!accl || f.hw.empty()) return out;
   auto resolve = [&](accl_hw h) {
     if (h == ACCL_AUTO) return f.info.accl_auto < ACCL_NONE ? f.hw[0] : f.info.accl_auto;
     if (h == ACCL_DEFAULT) return f.info.accl_default < ACCL_NONE ? f.hw[0] : f.info.accl_default;

@@ -74,6 +74,8 @@ struct SrcPriv {
   int64_t base_epoch = 0;
   std::string caps;  // caps string currently set on the pad
   uint64_t dumped = 0;
+  // Set when the client reports the link lost; the first connect is not a reconnect.
+  std::atomic<bool> link_down{false};
 };
 
 // debug, client-id, host, port, cleansession, keep-alive-interval, mqtt-qos: mq::CommonProp.
@@ -199,6 +201,7 @@ static gboolean mqtt_src_start(GstBaseSrc *src) {
       p->dumped = 0;
     }
     p->base_time = GST_CLOCK_TIME_NONE;
+    p->link_down = false;
     Settings &s = p->run;
     if (s.topic.empty())
       nns::fail(nns::ErrorKind::kSettings, "sub-topic is required (the topic to subscribe to)");
@@ -210,12 +213,14 @@ static gboolean mqtt_src_start(GstBaseSrc *src) {
           on_message(self, topic, d, n);
         },
         [elem, p](bool up, const std::string &why) {
-          if (up)
-            NNS_POST_WARNING(elem, "reconnected to the MQTT broker " + mq::broker_name(p->run) +
-                                       "; subscribing to '" + p->run.topic + "' again");
-          else
+          if (!up) {
+            p->link_down = true;
             NNS_POST_WARNING(elem, "connection to the MQTT broker " + mq::broker_name(p->run) +
                                        " lost (" + why + "); reconnecting");
+          } else if (p->link_down.exchange(false)) {
+            NNS_POST_WARNING(elem, "reconnected to the MQTT broker " + mq::broker_name(p->run) +
+                                       "; subscribing to '" + p->run.topic + "' again");
+          }
         });
     p->client->subscribe(s.topic, s.qos);
     mq::connect_or_fail(p->client, s, " and subscribe to '" + s.topic + "'");

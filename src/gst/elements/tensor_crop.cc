@@ -201,11 +201,8 @@ static GstBuffer *do_crop(GstTensorCrop *self, GstBuffer *raw, GstBuffer *info) 
                                    std::to_string(height) + " frame; clipped to " + r.to_string());
       }
     }
-    nns::MetaHeader oh;
-    oh.type = t.type;
-    oh.dims = nns::make_dims({ch, r.w, r.h, 1});
-    oh.format = nns::TensorFormat::kFlexible;
-    oh.media_type = media;
+    const nns::MetaHeader oh = nns::flexible_header(t.type, nns::make_dims({ch, r.w, r.h, 1}),
+                                                    media, nns::FlexHeaderKind::kMarkedFlexible);
     std::size_t payload = std::size_t(r.w) * r.h * ch * esize;
     GstMemory *mem = nns::gst::alloc_memory(nns::kMetaHeaderSize + payload);
     {

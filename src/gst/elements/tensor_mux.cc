@@ -166,10 +166,7 @@ GstBuffer *mux_combine(GstTensorSync *base, GstBuffer *const *in, std::size_t n)
                         std::to_string(size) + " bytes, expected " +
                         std::to_string(info[t].byte_size()) + " for " + info[t].to_string());
         if (p->flexible_out) {
-          nns::MetaHeader h;
-          h.type = info[t].type;
-          h.dims = info[t].dims;
-          h.format = nns::TensorFormat::kFlexible;
+          const nns::MetaHeader h = nns::flexible_header(info[t].type, info[t].dims);
           mem.reset(nns::gst::memory_with_header(h, mem.get()));
         }
         nns::gst::buffer_append_tensor(out.get(), mem.release(), info[t]);

@@ -136,12 +136,7 @@ GType mode_enum_type() {
 }
 
 nns::MetaHeader header_for(const TensorInfo &t) {
-  nns::MetaHeader h;
-  h.type = t.type;
-  h.dims = t.dims;
-  h.format = TensorFormat::kFlexible;
-  h.media_type = nns::MediaType::kTensor;
-  return h;
+  return nns::flexible_header(t.type, t.dims);
 }
 
 // Caps of any tensor stream with the given rate: static (other/tensors and the legacy

@@ -17,11 +17,18 @@
 #endif
 
 static int g_opens, g_closes;
+static int g_last_hw[5] = {-1, -1, -1, -1, -1}; /* num_hw, then up to 4 entries of hw_list */
 static const accl_hw hw[] = {ACCL_CPU};
 
 __attribute__((visibility("default"))) void nns2x_v1_counters(int *c) {
   c[0] = g_opens;
   c[1] = g_closes;
+}
+
+/* The accelerator list the last open() was given: c[0] = num_hw, c[1..4] = hw_list (-1 past
+ * the end). */
+__attribute__((visibility("default"))) void nns2x_v1_last_accelerators(int *c) {
+  memcpy(c, g_last_hw, sizeof g_last_hw);
 }
 
 typedef struct {
@@ -38,7 +45,10 @@ static int v1_open(const GstTensorFilterProperties *prop, void **priv) {
   v1_priv *p = malloc(sizeof *p);
   if (!p) return -ENOMEM;
   p->add = parse_add(prop->custom_properties);
-  p->accl = prop->num_hw > 0 ? prop->hw_list[0] : ACCL_NONE;
+  /* No list (accelerator unset): this model's own default, the CPU. */
+  p->accl = prop->num_hw > 0 ? prop->hw_list[0] : ACCL_CPU;
+  g_last_hw[0] = prop->num_hw;
+  for (int i = 0; i < 4; ++i) g_last_hw[1 + i] = i < prop->num_hw ? (int)prop->hw_list[i] : -1;
   *priv = p;
   ++g_opens;
   return 0;
