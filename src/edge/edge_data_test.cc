@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 using namespace nns::edge;
 
@@ -96,4 +100,86 @@ TEST(EdgeData, RefusesMalformedBeforeAllocating) {
   b[2072] = 12;
   b.pop_back();
   EXPECT_NE(refuse(b).find("metadata: pair 0 is not NUL-terminated"), std::string::npos);
+}
+
+namespace {
+
+// nnstreamer-edge's data header for `num` memories of `sizes`, then `meta` as metadata block.
+std::vector<uint8_t> with_meta(uint32_t num, std::vector<uint8_t> meta) {
+  OutFrame f;
+  static const uint8_t none = 0;
+  for (uint32_t i = 0; i < num; ++i) f.mems.push_back({&none, 0});
+  auto b = serialize_data(f);
+  for (int i = 0; i < 8; ++i) b[kDataOffMetaLen + i] = static_cast<uint8_t>(meta.size() >> 8 * i);
+  b.insert(b.end(), meta.begin(), meta.end());
+  return b;
+}
+
+}  // namespace
+
+// Fuzz finding (edge_data, issue 22): metadata given as a 4-byte block holding a zero count.
+// nnstreamer-edge's writer sends empty metadata as 0 bytes, but its reader
+// (nns_edge_metadata_deserialize) takes the zero-count block as empty metadata too: the message
+// is well-formed and carries nothing more, so it is accepted, and written back as 0 bytes.
+TEST(EdgeData, FuzzRegressionZeroCountMetadataIsEmpty) {
+  const auto b = with_meta(7, {0, 0, 0, 0});
+  ASSERT_EQ(b.size(), 2084u);
+  Message m;
+  std::string why;
+  ASSERT_TRUE(parse_data(b.data(), b.size(), Limits{}, {}, &m, &why)) << why;
+  EXPECT_EQ(m.mems.size(), 7u);
+  EXPECT_TRUE(m.meta.empty());
+  EXPECT_EQ(m.header.meta_size, 4u);
+  OutFrame f;
+  for (const auto &mem : m.mems) f.mems.push_back({mem->data(), mem->size()});
+  const auto again = serialize_data(f);
+  ASSERT_EQ(again.size(), 2080u);
+  EXPECT_EQ(u64_at(again, kDataOffMetaLen), 0u);
+  // A count without its pairs, or pairs beyond the count, stays refused.
+  EXPECT_EQ(refuse(with_meta(0, {1, 0, 0, 0})), "metadata: count says 1 pairs, found 0");
+  EXPECT_EQ(refuse(with_meta(0, {0, 0, 0, 0, 'k', 0, 'v', 0})),
+            "metadata: count says 0 pairs, found 1");
+}
+
+// The next step of the same finding: a key given twice. nnstreamer-edge's reader replaces the
+// first value and, one pair short of the count, reads on past the block; refused here.
+TEST(EdgeData, RepeatedMetadataKeyRefused) {
+  EXPECT_EQ(refuse(with_meta(0, {2, 0, 0, 0, 'a', 0, '1', 0, 'A', 0, '2', 0})),
+            "metadata: pair 1 repeats the key 'A' (keys are case-insensitive)");
+}
+
+// Every input in fuzz/regressions/edge_data/ is refused with a reason before anything is
+// allocated, or accepted and written back to the same bytes (but the version key and the
+// 4-byte spelling of empty metadata).
+TEST(EdgeData, FuzzRegressionsReplay) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(NNS_SOURCE_DIR) / "fuzz" / "regressions" / "edge_data";
+  int seen = 0;
+  for (const auto &e : fs::directory_iterator(dir)) {
+    SCOPED_TRACE(e.path().string());
+    std::ifstream in(e.path(), std::ios::binary);
+    const std::vector<uint8_t> raw((std::istreambuf_iterator<char>(in)), {});
+    Message m;
+    std::string why;
+    std::size_t allocated = 0;
+    Allocator alloc = [&](std::size_t n) {
+      allocated += n;
+      return heap_payload(n);
+    };
+    ++seen;
+    if (!parse_data(raw.data(), raw.size(), Limits{}, alloc, &m, &why)) {
+      EXPECT_FALSE(why.empty());
+      EXPECT_EQ(allocated, 0u);
+      continue;
+    }
+    OutFrame f;
+    for (const auto &mem : m.mems) f.mems.push_back({mem->data(), mem->size()});
+    f.meta = m.meta;
+    const auto again = serialize_data(f);
+    const std::size_t dropped = m.meta.empty() ? m.header.meta_size : 0;
+    EXPECT_EQ(again.size() + dropped, raw.size());
+    EXPECT_TRUE(
+        std::equal(again.begin() + kDataHeaderSize, again.end(), raw.begin() + kDataHeaderSize));
+  }
+  EXPECT_GE(seen, 2);
 }

@@ -3,8 +3,10 @@
 
 #include <strings.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <unordered_set>
 
 namespace nns::edge {
 
@@ -148,6 +150,7 @@ std::optional<Metadata> Metadata::parse(const uint8_t *data, std::size_t len, st
   const uint32_t count = get_u32(data);
   std::size_t pos = 4;
   std::vector<std::pair<std::string, std::string>> pairs;
+  std::unordered_set<std::string> seen;
   auto take = [&](std::string *out) {
     const void *nul = std::memchr(data + pos, 0, len - pos);
     if (!nul) return false;
@@ -161,13 +164,21 @@ std::optional<Metadata> Metadata::parse(const uint8_t *data, std::size_t len, st
     if (!take(&k) || !take(&v))
       return bad("pair " + std::to_string(pairs.size()) + " is not NUL-terminated");
     if (k.empty() || v.empty()) return bad("pair " + std::to_string(pairs.size()) + " is empty");
+    // nnstreamer-edge's reader replaces a repeated key and then, one pair short of the count,
+    // reads on past the block; its writer never repeats a key. Refused.
+    // A set, not a scan: 1 MiB of metadata holds up to 2^18 pairs.
+    std::string folded = k;
+    for (char &c : folded) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!seen.insert(std::move(folded)).second)
+      return bad("pair " + std::to_string(pairs.size()) + " repeats the key '" + k +
+                 "' (keys are case-insensitive)");
     pairs.emplace_back(std::move(k), std::move(v));
   }
   if (pairs.size() != count)
     return bad("count says " + std::to_string(count) + " pairs, found " +
                std::to_string(pairs.size()));
-  // Wire order is newest first; re-set oldest first so the order is kept.
-  for (auto it = pairs.rbegin(); it != pairs.rend(); ++it) m.set(it->first, it->second);
+  // Wire order is newest first, as items_ (keys are distinct: no set() needed).
+  m.items_ = std::move(pairs);
   return m;
 }
 

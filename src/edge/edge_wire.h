@@ -87,7 +87,9 @@ class Metadata {
 
   // u32 count, then key '\0' value '\0' per pair. Empty metadata serializes to nothing.
   std::vector<uint8_t> serialize() const;
-  // Strict: every pair NUL-terminated inside `len`, count matching, no empty key or value.
+  // Strict: every pair NUL-terminated inside `len`, count matching, no empty key or value, no
+  // key twice. Empty metadata is 0 bytes (what nnstreamer-edge writes) or a 4-byte zero count
+  // (what its reader also accepts); both parse to no pairs.
   static std::optional<Metadata> parse(const uint8_t *data, std::size_t len, std::string *why);
 
  private:

@@ -104,6 +104,13 @@ TEST(EdgeWire, MetadataRejectsBadInput) {
   EXPECT_EQ(why, "metadata: count says 3 pairs, found 1");
   const uint8_t shorty[] = {1, 0};
   EXPECT_FALSE(Metadata::parse(shorty, sizeof shorty, &why));
+  const uint8_t twice[] = {2, 0, 0, 0, 'K', 0, 'v', 0, 'k', 0, 'w', 0};
+  EXPECT_FALSE(Metadata::parse(twice, sizeof twice, &why));
+  EXPECT_EQ(why, "metadata: pair 1 repeats the key 'k' (keys are case-insensitive)");
+  const uint8_t zero_count[] = {0, 0, 0, 0};  // nnstreamer-edge's reader takes it as empty
+  auto empty = Metadata::parse(zero_count, sizeof zero_count, &why);
+  ASSERT_TRUE(empty) << why;
+  EXPECT_TRUE(empty->empty());
 }
 
 TEST(EdgeWire, HostStringAndCapsFields) {
