@@ -4,8 +4,14 @@
 # generated seed corpus. Exits non-zero when a target finds a crash, leak, UB or broken property
 # (the reproducer is kept in $NNS_FUZZ_DIR/artifacts/). See docs/fuzzing.md.
 #
-# usage: scripts/fuzz.sh [target ...]     (default: every target)
-# env:   NNS_FUZZ_SECONDS   total run time shared by the targets (default 180)
+# usage: scripts/fuzz.sh [target ...]     smoke run (default: every target): replays the stored
+#                                         corpus (fuzz/corpus/, fuzz/regressions/), then fuzzes
+#        scripts/fuzz.sh --campaign SECONDS [target ...]
+#                                         SECONDS per target, one after the other, under
+#                                         nice -n $NNS_FUZZ_NICE (19); afterwards the target's
+#                                         corpus is minimized (-merge=1) into fuzz/corpus/<t>/
+#                                         and its figures go to $NNS_FUZZ_DIR/campaign/<t>.txt
+# env:   NNS_FUZZ_SECONDS   smoke run: total run time shared by the targets (default 180)
 #        NNS_FUZZ_DIR       build folder (default build-fuzz/ beside build/)
 #        NNS_JOBS           build jobs (default 2)
 #        CXX                clang++ to use (default clang++)
@@ -19,6 +25,11 @@ CLANG=${CXX:-clang++}
 [[ $CLANG == *clang++* ]] || CLANG=clang++
 ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame mqtt_message
   edge_data)
+CAMPAIGN=0
+if [[ ${1:-} == --campaign ]]; then
+  CAMPAIGN=${2:?--campaign needs the seconds per target}
+  shift 2
+fi
 TARGETS=("${@:-${ALL[@]}}")
 [[ $# -gt 0 ]] || TARGETS=("${ALL[@]}")
 
@@ -39,16 +50,62 @@ cmake --build "$DIR" -j"$JOBS" >"$DIR/build.log" 2>&1 || {
 # Seeds: regenerated every run (cheap), kept apart from what the fuzzer adds.
 rm -rf "$DIR/seeds"
 "$DIR/nns_fuzz_corpus" "$DIR/seeds" >/dev/null
-# Regression inputs of fixed bugs (tiny, in git).
+# Regression inputs of fixed bugs (tiny, in git) and the stored corpus of the last campaign
+# (minimized, in git): every run replays them first, so a fixed finding that comes back fails.
 for t in "${ALL[@]}"; do
-  if [[ -d $ROOT/fuzz/regressions/$t ]]; then
-    cp "$ROOT/fuzz/regressions/$t"/* "$DIR/seeds/$t/" 2>/dev/null || true
-  fi
+  for d in "$ROOT/fuzz/regressions/$t" "$ROOT/fuzz/corpus/$t"; do
+    if [[ -d $d ]]; then cp "$d"/* "$DIR/seeds/$t/" 2>/dev/null || true; fi
+  done
 done
+mkdir -p "$DIR/artifacts"
+
+# libFuzzer's closing figures: "<executions> <cov> <ft> <corpus>" of a log.
+figures() {
+  local execs cov ft corp
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$1" | tail -n 1)
+  cov=$(grep -oE ' cov: [0-9]+' "$1" | tail -n 1 | tr -dc 0-9)
+  ft=$(grep -oE ' ft: [0-9]+' "$1" | tail -n 1 | tr -dc 0-9)
+  corp=$(grep -oE ' corp: [0-9]+' "$1" | tail -n 1 | tr -dc 0-9)
+  echo "${execs:-?} ${cov:-?} ${ft:-?} ${corp:-?}"
+}
+
+if ((CAMPAIGN)); then
+  status=0
+  mkdir -p "$DIR/campaign"
+  for t in "${TARGETS[@]}"; do
+    exe=$DIR/fuzz_$t
+    [[ -x $exe ]] || { say "unknown target $t"; status=1; continue; }
+    work=$DIR/campaign/$t
+    mkdir -p "$work"
+    say "$t: campaign of ${CAMPAIGN}s (nice ${NNS_FUZZ_NICE:-19}), load: $(cut -d' ' -f1-3 /proc/loadavg)"
+    t0=$(date +%s)
+    rc=0
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      nice -n "${NNS_FUZZ_NICE:-19}" "$exe" "$work" "$DIR/seeds/$t" -max_total_time="$CAMPAIGN" \
+      -rss_limit_mb=1024 -max_len=65536 -timeout=10 -print_final_stats=1 \
+      -artifact_prefix="$DIR/artifacts/$t-" >"$DIR/campaign/$t.log" 2>&1 || rc=$?
+    read -r execs cov ft corp < <(figures "$DIR/campaign/$t.log")
+    # Minimize what the campaign has (its corpus, the seeds) into the stored corpus.
+    rm -rf "$work.min" && mkdir -p "$work.min"
+    nice -n "${NNS_FUZZ_NICE:-19}" "$exe" -merge=1 "$work.min" "$work" "$DIR/seeds/$t" \
+      -max_len=65536 -timeout=10 -rss_limit_mb=1024 >"$DIR/campaign/$t.merge.log" 2>&1 || true
+    rm -rf "$ROOT/fuzz/corpus/$t" && mkdir -p "$ROOT/fuzz/corpus/$t"
+    cp "$work.min"/* "$ROOT/fuzz/corpus/$t/" 2>/dev/null || true
+    n=$(find "$ROOT/fuzz/corpus/$t" -type f | wc -l)
+    kb=$(du -sk --apparent-size "$ROOT/fuzz/corpus/$t" | cut -f1)
+    line="$t: $(($(date +%s) - t0))s, exit $rc, $execs executions, cov $cov, ft $ft, corpus $corp -> $n files ($kb KiB) stored, load: $(cut -d' ' -f1-3 /proc/loadavg)"
+    echo "$line" | tee "$DIR/campaign/$t.txt" | sed 's/^/[fuzz] /'
+    if ((rc)); then
+      tail -n 40 "$DIR/campaign/$t.log"
+      say "FINDING in $t (reproducer in $DIR/artifacts/, log $DIR/campaign/$t.log)"
+      status=1
+    fi
+  done
+  exit $status
+fi
 
 per=$((TOTAL / ${#TARGETS[@]}))
 ((per >= 1)) || per=1
-mkdir -p "$DIR/artifacts"
 status=0
 for t in "${TARGETS[@]}"; do
   exe=$DIR/fuzz_$t
