@@ -4,8 +4,11 @@
 # Results are printed and saved to build/bench-results/<name>.txt.
 #
 # usage: scripts/bench.sh [name-substring]      e.g. scripts/bench.sh pipeline
-#        scripts/bench.sh paper                 the paper's experiments E1-E4 (examples/paper/run.sh,
-#                                               docs/paper-experiments.md), under 10 minutes
+#        scripts/bench.sh paper [--docs]        the paper's experiments E1-E4 (examples/paper/run.sh,
+#                                               docs/paper-experiments.md), under 10 minutes; both
+#                                               sides pinned to $NNS_PAPER_CPUS (every core), the load
+#                                               average printed before every run; --docs copies the
+#                                               plots and tables.md to docs/paper/ (quiet machine only)
 # env:   NNS_BUILD_DIR (build), NNS_JOBS (nproc)
 # Benchmarks are timing-sensitive: run them on an otherwise idle machine and compare medians.
 set -euo pipefail

@@ -68,7 +68,8 @@ class Dumper {
   std::map<std::string, FILE *> files_;
 };
 
-// One ONNX Runtime session, single intra-op thread (as the pipelines' custom=NumThreads:1).
+// One ONNX Runtime session with ort_threads() intra-op threads and one inter-op thread (as the
+// pipelines' custom=NumThreads:N,InterOpNumThreads:1); with 1 the caller's thread runs it.
 class OrtModel {
  public:
   explicit OrtModel(const std::string &path);
@@ -130,14 +131,21 @@ class GstRun {
   std::string callback_error_;  // first exception caught in a sink callback
   bool first_set_ = false;
   double first_t_ = 0, first_cpu_ = 0, last_t_ = 0, last_cpu_ = 0;
+  SchedSnapshot first_sched_, end_sched_;
   friend struct StampCtx;
 };
 
 // The tensors of a buffer as float32 (static caps types or flexible headers).
 std::vector<std::vector<float>> buffer_tensors(GstBuffer *buf, GstCaps *caps);
 
-// "filter framework=onnxruntime model=<path> custom=NumThreads:1" (prefix with "tensor_").
+// "filter framework=onnxruntime model=<path> custom=NumThreads:N,InterOpNumThreads:1" (prefix
+// with "tensor_"); N = ort_threads(), the same intra-op thread count as every OrtModel.
 std::string ort_filter(const std::string &model, const std::string &extra = "");
+void set_ort_threads(int n);  // --ort-threads (default 1), both modes
+int ort_threads();
+
+// Reads a file once so that neither side's measured loop waits on the disk for its input.
+void warm_file(const std::string &path);
 
 // Experiments: fill `r` (figures, latency) for opts.mode.
 void run_e1(const Options &o, Result &r);

@@ -5,6 +5,8 @@
 // its fields). The same figures come out of the pipeline runs and the Control programs.
 #pragma once
 
+#include <dirent.h>
+#include <sched.h>
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -41,24 +43,63 @@ inline double proc_status_mib(const char *field) {
   return 0;
 }
 
-// Wall and CPU time of one measured interval.
+// Where a process's time went besides running: context switches it asked for (voluntary: it
+// blocked or slept, i.e. waited) and ones forced on it (involuntary: preempted), and the time
+// its threads sat runnable on a run queue while other tasks held the cores
+// (/proc/self/task/*/schedstat, second field). A batch run that waits shows voluntary switches;
+// one squeezed by other jobs shows run-queue time. Threads: how many the process has now.
+struct SchedSnapshot {
+  double vcsw = 0, ivcsw = 0, runq_s = 0, threads = 0;
+  static SchedSnapshot now() {
+    SchedSnapshot s;
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    s.vcsw = static_cast<double>(ru.ru_nvcsw);
+    s.ivcsw = static_cast<double>(ru.ru_nivcsw);
+    if (DIR *d = opendir("/proc/self/task")) {
+      while (dirent *e = readdir(d)) {
+        if (e->d_name[0] == '.') continue;
+        std::ifstream f(std::string("/proc/self/task/") + e->d_name + "/schedstat");
+        unsigned long long run_ns = 0, wait_ns = 0;
+        if (f >> run_ns >> wait_ns) s.runq_s += static_cast<double>(wait_ns) * 1e-9;
+        s.threads += 1;
+      }
+      closedir(d);
+    }
+    return s;
+  }
+};
+
+// Cores this process may run on (taskset / sched_setaffinity).
+inline int allowed_cpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  return sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 0;
+}
+
+// Wall and CPU time of one measured interval, and its scheduling figures (SchedSnapshot).
 class Meter {
  public:
   void start() {
+    sched0_ = SchedSnapshot::now();
     t0_ = Clock::now();
     cpu0_ = cpu_seconds();
   }
   void stop() {
     wall_ = seconds_since(t0_);
     cpu_ = cpu_seconds() - cpu0_;
+    sched1_ = SchedSnapshot::now();
   }
   double wall() const { return wall_; }
   double cpu() const { return cpu_; }
   Clock::time_point t0() const { return t0_; }
+  const SchedSnapshot &sched0() const { return sched0_; }
+  const SchedSnapshot &sched1() const { return sched1_; }
 
  private:
   Clock::time_point t0_{};
   double cpu0_ = 0, wall_ = 0, cpu_ = 0;
+  SchedSnapshot sched0_, sched1_;
 };
 
 // Latency samples in milliseconds.
@@ -87,12 +128,19 @@ struct Result {
   std::map<std::string, std::string> info;
 
   // Wall, CPU share (100 % = one core busy) and memory of the measured interval.
-  void add_usage(const Meter &m) {
-    figures["wall_s"] = m.wall();
-    figures["cpu_s"] = m.cpu();
-    figures["cpu_pct"] = m.wall() > 0 ? 100.0 * m.cpu() / m.wall() : 0;
+  void add_usage(const Meter &m) { add_usage(m.wall(), m.cpu(), m.sched0(), m.sched1()); }
+  void add_usage(double wall, double cpu, const SchedSnapshot &a, const SchedSnapshot &b) {
+    figures["wall_s"] = wall;
+    figures["cpu_s"] = cpu;
+    figures["cpu_pct"] = wall > 0 ? 100.0 * cpu / wall : 0;
     figures["rss_peak_mib"] = proc_status_mib("VmHWM");
     figures["rss_mib"] = proc_status_mib("VmRSS");
+    // Voluntary switches = waits; run-queue time = CPU the scheduler gave to other tasks.
+    figures["vcsw"] = b.vcsw - a.vcsw;
+    figures["ivcsw"] = b.ivcsw - a.ivcsw;
+    figures["runq_s"] = b.runq_s - a.runq_s;
+    figures["threads"] = std::max(a.threads, b.threads);
+    figures["cpus"] = allowed_cpus();
   }
 
   std::string json() const {

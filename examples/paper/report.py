@@ -205,6 +205,12 @@ def e3(runs, plt, out, md):
             med(lat[m], None, s, "mean") for _, m in modes)))
     md.append("| CPU %% (batch) | %.1f | %.1f |" % tuple(med(batch[m], "cpu_pct")
                                                       for _, m in modes))
+    if all("runq_s" in batch[m][0]["figures"] for _, m in modes):
+        md.append("| run-queue s / voluntary switches (batch) | %.2f / %.0f | %.2f / %.0f |" % (
+            med(batch["control"], "runq_s"), med(batch["control"], "vcsw"),
+            med(batch["nns"], "runq_s"), med(batch["nns"], "vcsw")))
+        md.append("| threads (batch) | %.0f | %.0f |" % tuple(med(batch[m], "threads")
+                                                          for _, m in modes))
     md.append("| frames per CPU second (batch) | %.1f | %.1f |" % tuple(
         per_cpu(batch[m], "fps") for _, m in modes))
     md.append("| peak RSS MiB | %.1f | %.1f |" % tuple(med(batch[m], "rss_peak_mib")
@@ -249,6 +255,72 @@ def e4(runs, plt, out, md):
     bars(axs[2], labels, series(None, False, "overall"), "E4 latency p50 (batch)", "ms")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "e4.png"), dpi=80)
+
+
+BATCH = [("E1 (fast+mid+slow)", "e1", "fast,mid,slow", "fps_slow"),
+         ("E2", "e2", None, "fps_video"), ("E3", "e3", None, "fps"),
+         ("E4 160x160", "e4", "160", "fps"), ("E4 320x320", "e4", "320", "fps")]
+
+
+def ratios(runs, md):
+    """Pipeline / Control throughput of the batch runs with the CPU each used.
+
+    On c cores a pipeline can be at most c times a Control that has one full core and does the
+    same work per frame; a larger ratio means the Control did not get its core (other jobs:
+    see its run-queue time) or the two did different work.
+    """
+    rows = []
+    for name, exp, config, key in BATCH:
+        by = {m: pick(runs, exp, m, config, False) for m in ("control", "nns")}
+        if not by["control"] or not by["nns"]:
+            continue
+        c, n = by["control"], by["nns"]
+        cores = int(med(n, "cpus")) if "cpus" in n[0]["figures"] else 0
+        ratio = med(n, key) / med(c, key)
+        note = []
+        if med(c, "cpu_pct") < 90:
+            note.append("Control below one core (%.0f %%): %s" % (
+                med(c, "cpu_pct"), "squeezed by other tasks, %.2f s on the run queue"
+                % med(c, "runq_s") if "runq_s" in c[0]["figures"] else "squeezed or waiting"))
+        if cores and ratio > cores:
+            note.append("ratio above the %d cores: the CPU shares differ %.1fx, work per CPU "
+                        "second %.2fx" % (cores, med(n, "cpu_pct") / max(1e-9, med(c, "cpu_pct")),
+                                          per_cpu(n, key) / max(1e-9, per_cpu(c, key))))
+
+        def fig(sel, k, fmt):
+            return fmt % med(sel, k) if k in sel[0]["figures"] else "-"
+
+        rows.append("| %s | %.1f | %.1f | %s | %s | %.1f | %.1f | %s | %s | %.2f | %s | %s |" % (
+            name, med(c, key), med(c, "cpu_pct"), fig(c, "runq_s", "%.2f"),
+            fig(c, "vcsw", "%.0f"), med(n, key), med(n, "cpu_pct"), fig(n, "runq_s", "%.2f"),
+            fig(n, "threads", "%.0f"), ratio, cores or "-", "; ".join(note) or "-"))
+    if not rows:
+        return
+    md.append("### Pipeline / Control (batch, medians)\n")
+    md.append("CPU % is process CPU time over wall time (100 = one core); run-queue s is the time "
+              "the process's threads were runnable but other tasks held the cores; voluntary "
+              "switches count the Control's waits (blocking, sleeping) in the measured loop.\n")
+    md.append("| experiment | Control fps | Control CPU % | Control run-queue s | Control "
+              "voluntary switches | pipeline fps | pipeline CPU % | pipeline run-queue s | "
+              "pipeline threads | pipeline / Control | cores | note |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|")
+    md.extend(rows)
+    md.append("")
+
+
+def machine(runs):
+    """One line: cores, pinning, ONNX Runtime threads and the load averages of the runs."""
+    loads = [float(r["info"][k].split()[0]) for r in runs for k in ("loadavg_start", "loadavg_end")
+             if k in r["info"]]
+    cpus = sorted({int(r["figures"]["cpus"]) for r in runs if "cpus" in r["figures"]})
+    ort = sorted({r["info"]["ort_intra_threads"] for r in runs if "ort_intra_threads" in r["info"]})
+    if not loads:
+        return "Load average not recorded (runs made before it was)."
+    return ("Runs pinned to %s core(s), ONNX Runtime intra-op threads %s; 1-minute load average "
+            "between %.2f and %.2f over the runs%s." % (
+                "/".join(map(str, cpus)) or "?", "/".join(ort) or "?", min(loads), max(loads),
+                "" if max(loads) < 0.5 * max(cpus or [1]) else
+                " (NOT a quiet machine: CPU shares, not the design, decide the ratios)"))
 
 
 def trace(out, tag):
@@ -298,10 +370,12 @@ def plot(path, out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     runs = load(path)
-    md = ["<!-- made by examples/paper/report.py from %d runs -->" % len(runs), ""]
+    md = ["<!-- made by examples/paper/report.py from %d runs -->" % len(runs), "",
+          machine(runs), ""]
     for f in (e1, e2, e3, e4):
         f(runs, plt, out, md)
         plt.close("all")
+    ratios(runs, md)
     profiles(out, md)
     with open(os.path.join(out, "tables.md"), "w") as f:
         f.write("\n".join(md) + "\n")

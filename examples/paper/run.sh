@@ -11,7 +11,13 @@
 #   --docs   copy the figures and tables into docs/paper/ (after a full run)
 # env: NNS_BUILD_DIR (build), NNS_PAPER_OUT (build/paper or build/paper-smoke),
 #      NNS_PAPER_SKIP_MISSING=1: exit 77 (skipped) when the program, models or ONNX Runtime
-#      back end are missing (never in CI).
+#      back end are missing (never in CI),
+#      NNS_PAPER_CPUS (default: every online core, e.g. 0-1): the cores both sides are pinned to
+#      (taskset -c), NNS_PAPER_ORT_THREADS (1): ONNX Runtime intra-op threads per model, the same
+#      for the pipeline's filters and the Control's sessions.
+# Every run prints the load average before it starts; the figures only say what pipelining is
+# worth on a quiet machine (load average well under 1, no build running): a batch Control that
+# gets less than one core (cpu_pct < 100) was squeezed by other jobs (its runq_s shows how long).
 set -euo pipefail
 # shellcheck source=examples/common.sh
 . "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
@@ -46,15 +52,25 @@ rm -rf "$OUT"
 mkdir -p "$OUT/inputs" "$OUT/dumps"
 RES=$OUT/results.jsonl
 $PY "$HERE/make_inputs.py" "$OUT/inputs" "${lens[@]}"
-echo "$NNS_TAG: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); results in $OUT"
+CPUS=${NNS_PAPER_CPUS:-0-$(($(nproc) - 1))}
+ORT_THREADS=${NNS_PAPER_ORT_THREADS:-1}
+command -v taskset >/dev/null || nns_die 1 "taskset (util-linux) missing: both sides are pinned with it"
+echo "$NNS_TAG: $(nproc) cores, both sides pinned to cores $CPUS, ONNX Runtime intra-op threads" \
+  "$ORT_THREADS; load $(cut -d' ' -f1-3 /proc/loadavg); results in $OUT"
+busy=$(pgrep -c -x 'cc1plus|cc1|ld|ld.gold|ld.lld|ninja|make|rustc|clang|clang\+\+' || true)
+load1=$(cut -d' ' -f1 /proc/loadavg)
+if ((busy > 0)) || awk -v l="$load1" 'BEGIN { exit !(l >= 0.5) }'; then
+  echo "$NNS_TAG: WARNING: not a quiet machine (load $load1, $busy compiler/linker processes):" \
+    "the CPU each side gets is the scheduler's share, not what pipelining is worth"
+fi
 
 # run <exp> <mode> <config> [nns-paper options...]
 run() {
   local exp=$1 mode=$2 config=$3
   shift 3
-  echo "$NNS_TAG: $exp $mode ${config:--} $*" >&2
-  "$BIN" --exp "$exp" --mode "$mode" --config "$config" --models "$MODELS" \
-    --inputs "$OUT/inputs" --out "$RES" "$@" >/dev/null ||
+  echo "$NNS_TAG: $exp $mode ${config:--} $* (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
+  taskset -c "$CPUS" "$BIN" --exp "$exp" --mode "$mode" --config "$config" --models "$MODELS" \
+    --inputs "$OUT/inputs" --out "$RES" --ort-threads "$ORT_THREADS" "$@" >/dev/null ||
     nns_die 1 "$exp $mode $config failed"
 }
 both() {
@@ -100,7 +116,8 @@ profile() {
   mkdir -p "$OUT/profile"
   echo "$NNS_TAG: profile $tag" >&2
   GST_TRACERS="nnsprofile(file=$OUT/profile/$tag.trace.json,interval=0)" \
-    "$BIN" --mode nns --models "$MODELS" --inputs "$OUT/inputs" "$@" >/dev/null ||
+    taskset -c "$CPUS" "$BIN" --mode nns --models "$MODELS" --inputs "$OUT/inputs" \
+    --ort-threads "$ORT_THREADS" "$@" >/dev/null ||
     nns_die 1 "profiled run $tag failed"
   "$BUILD_DIR/tools/nns-profile" --from "$OUT/profile/$tag.trace.json" \
     --html "$OUT/profile/$tag.html" --json "$OUT/profile/$tag.json" \
