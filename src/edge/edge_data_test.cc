@@ -29,15 +29,22 @@ std::vector<uint8_t> sample() {
   return serialize_data(f);
 }
 
+// parse_data with an allocator that adds up what it is asked for into *allocated.
+bool parse_counted(const std::vector<uint8_t> &bytes, const Limits &limits, Message *m,
+                   std::string *why, std::size_t *allocated) {
+  *allocated = 0;
+  Allocator alloc = [allocated](std::size_t n) {
+    *allocated += n;
+    return heap_payload(n);
+  };
+  return parse_data(bytes.data(), bytes.size(), limits, alloc, m, why);
+}
+
 std::string refuse(std::vector<uint8_t> bytes, Limits limits = {}) {
   Message m;
   std::string why;
   std::size_t allocated = 0;
-  Allocator alloc = [&](std::size_t n) {
-    allocated += n;
-    return heap_payload(n);
-  };
-  EXPECT_FALSE(parse_data(bytes.data(), bytes.size(), limits, alloc, &m, &why));
+  EXPECT_FALSE(parse_counted(bytes, limits, &m, &why, &allocated));
   EXPECT_EQ(allocated, 0u);
   return why;
 }
@@ -162,12 +169,8 @@ TEST(EdgeData, FuzzRegressionsReplay) {
     Message m;
     std::string why;
     std::size_t allocated = 0;
-    Allocator alloc = [&](std::size_t n) {
-      allocated += n;
-      return heap_payload(n);
-    };
     ++seen;
-    if (!parse_data(raw.data(), raw.size(), Limits{}, alloc, &m, &why)) {
+    if (!parse_counted(raw, Limits{}, &m, &why, &allocated)) {
       EXPECT_FALSE(why.empty());
       EXPECT_EQ(allocated, 0u);
       continue;
