@@ -9,8 +9,11 @@
   report.py plot <results.jsonl> <out folder>
       e1.png .. e4.png (matplotlib) and tables.md from the JSON lines of nns-paper; batch
       figures are medians over repeated runs. With <out>/profile/<tag>.trace.json (nnsprofile
-      tracer files of profiled runs) also per-element tables and E3's per-stage invoke times. Exit 1 when a run lacks its figures or a
-      throughput is not positive.
+      tracer files of profiled runs) also per-element tables and E3's per-stage invoke times.
+      tables.md starts with the cores, ONNX Runtime threads and load range of the runs and ends
+      with the pipeline / Control ratio of every batch configuration beside the CPU %, run-queue
+      time and threads of each side. Exit 1 when a run lacks its figures or a throughput is not
+      positive.
 """
 
 import glob
