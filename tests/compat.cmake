@@ -12,6 +12,13 @@ if(TARGET compat_util_test)
                              ${CMAKE_SOURCE_DIR}/backends)
 endif()
 
+# compat_more_api_test: the further 2.7 symbols (orc helpers, tensor_data, watchdog, sub-plugin
+# table, tensor_common, sparse), from the real libnnstreamer-single.so and the plugin's objects.
+if(TARGET compat_more_api_test)
+  target_link_libraries(compat_more_api_test PRIVATE nnstreamer-single nns_compat_gst)
+  target_include_directories(compat_more_api_test PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+endif()
+
 # 1. Install the tree into a fresh prefix and build C extensions from it alone (fixture).
 set(_program yes)
 if(NNS_SANITIZE)
