@@ -17,6 +17,9 @@ endif()
 if(TARGET compat_more_api_test)
   target_link_libraries(compat_more_api_test PRIVATE nnstreamer-single nns_compat_gst)
   target_include_directories(compat_more_api_test PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+  target_compile_definitions(compat_more_api_test PRIVATE
+                             NNS_TEST_FILTER_DIR="${CMAKE_BINARY_DIR}/tests/filter")
+  add_dependencies(compat_more_api_test nns_test_custom_passthrough nns_test_custom_scaler)
 endif()
 
 # 1. Install the tree into a fresh prefix and build C extensions from it alone (fixture).

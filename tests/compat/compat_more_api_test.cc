@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstdarg>
 #include <cstdint>
 #include <cstring>
@@ -23,6 +24,10 @@
 #include "support/harness.h"
 #include "tensor_common.h"
 #include "tensor_data.h"
+#include "tensor_filter_single.h"
+
+#define G_TENSOR_FILTER_SINGLE_GET_CLASS_COMPAT(o) \
+  (G_TYPE_INSTANCE_GET_CLASS((o), G_TYPE_TENSOR_FILTER_SINGLE, GTensorFilterSingleClass))
 
 namespace {
 
@@ -354,5 +359,92 @@ TEST(CompatSparse, DenseToSparseAndBack) {
   gst_memory_unref(sparse);
   gst_memory_unref(mem);
 }
+
+// ---- tensor_filter_single ------------------------------------------------------------------
+
+namespace single {
+
+// NNStreamer's class layout: GObjectClass, then the nine functions in this order.
+static_assert(offsetof(GTensorFilterSingleClass, invoke) == sizeof(GObjectClass));
+static_assert(offsetof(GTensorFilterSingleClass, set_invoke_async_callback) ==
+              sizeof(GObjectClass) + 8 * sizeof(void *));
+static_assert(sizeof(GTensorFilterSingle) == sizeof(GObject) + sizeof(void *));
+
+std::string prop(GObject *o, const char *name) {
+  gchar *v = nullptr;
+  g_object_get(o, name, &v, nullptr);
+  std::string r = v ? v : "";
+  g_free(v);
+  return r;
+}
+
+TEST(CompatFilterSingle, ModelInfoInvokeAndStop) {
+  GObject *o = G_OBJECT(g_object_new(G_TYPE_TENSOR_FILTER_SINGLE, nullptr));
+  ASSERT_NE(o, nullptr);
+  auto *klass = G_TENSOR_FILTER_SINGLE_GET_CLASS_COMPAT(o);
+  std::string lib = std::string(NNS_TEST_FILTER_DIR) + "/libcustom_passthrough.so";
+  g_object_set(o, "framework", "custom", "model", lib.c_str(), nullptr);
+  auto *self = G_TENSOR_FILTER_SINGLE(o);
+  EXPECT_FALSE(klass->input_configured(self));
+  ASSERT_TRUE(klass->start(self));
+  EXPECT_TRUE(klass->input_configured(self));
+  EXPECT_TRUE(klass->output_configured(self));
+  EXPECT_EQ(prop(o, "input"), "10:1:1:1");
+  EXPECT_EQ(prop(o, "inputtype"), "float32");
+  EXPECT_EQ(prop(o, "outputtype"), "float32");
+  float in[10], out[10] = {};
+  for (int i = 0; i < 10; ++i) in[i] = static_cast<float>(i) * 1.5f;
+  GstTensorMemory im = {in, sizeof in}, om = {out, sizeof out};
+  ASSERT_TRUE(klass->invoke(self, &im, &om, FALSE));
+  EXPECT_EQ(std::memcmp(in, out, sizeof in), 0);
+  // allocate=TRUE: the output memory comes from here.
+  GstTensorMemory am = {nullptr, sizeof out};
+  ASSERT_TRUE(klass->invoke(self, &im, &am, TRUE));
+  ASSERT_NE(am.data, nullptr);
+  EXPECT_EQ(std::memcmp(in, am.data, sizeof in), 0);
+  if (klass->allocate_in_invoke(self))
+    klass->destroy_notify(self, &am);
+  else
+    g_free(am.data);
+  EXPECT_TRUE(klass->stop(self));
+  g_object_unref(o);
+}
+
+TEST(CompatFilterSingle, SetInputInfoAndBadModel) {
+  GObject *o = G_OBJECT(g_object_new(G_TYPE_TENSOR_FILTER_SINGLE, nullptr));
+  auto *klass = G_TENSOR_FILTER_SINGLE_GET_CLASS_COMPAT(o);
+  auto *self = G_TENSOR_FILTER_SINGLE(o);
+  std::string lib = std::string(NNS_TEST_FILTER_DIR) + "/libcustom_scaler.so";
+  g_object_set(o, "framework", "custom", "model", lib.c_str(), "custom", "2x2", nullptr);
+  ASSERT_TRUE(klass->start(self));
+  GstTensorsInfo in, out;
+  gst_tensors_info_init(&in);
+  in.num_tensors = 1;
+  in.info[0].type = _NNS_UINT8;
+  gst_tensor_parse_dimension("1:4:4:1", in.info[0].dimension);
+  ASSERT_EQ(klass->set_input_info(self, &in, &out), 0);
+  EXPECT_EQ(out.num_tensors, 1u);
+  EXPECT_EQ(out.info[0].dimension[1], 2u);
+  EXPECT_EQ(out.info[0].dimension[2], 2u);
+  EXPECT_EQ(prop(o, "output"), "1:2:2:1");
+  uint8_t x[16], y[4] = {};
+  for (int i = 0; i < 16; ++i) x[i] = static_cast<uint8_t>(i * 10);
+  GstTensorMemory im = {x, 16}, om = {y, 4};
+  ASSERT_TRUE(klass->invoke(self, &im, &om, FALSE));
+  EXPECT_EQ(std::vector<int>(y, y + 4), (std::vector<int>{0, 20, 80, 100}));
+  gst_tensors_info_free(&in);
+  gst_tensors_info_free(&out);
+  g_object_unref(o);
+
+  GObject *bad = G_OBJECT(g_object_new(G_TYPE_TENSOR_FILTER_SINGLE, "framework", "custom", "model",
+                                       "/nonexistent/libx.so", nullptr));
+  auto *bk = G_TENSOR_FILTER_SINGLE_GET_CLASS_COMPAT(bad);
+  EXPECT_FALSE(bk->start(G_TENSOR_FILTER_SINGLE(bad)));
+  GstTensorMemory none = {nullptr, 0};
+  EXPECT_FALSE(bk->invoke(G_TENSOR_FILTER_SINGLE(bad), &none, &none, FALSE));
+  g_object_unref(bad);
+}
+
+}  // namespace single
 
 }  // namespace
