@@ -3,10 +3,12 @@
 // aggregation adapters per client id, buffer_from_config, config-file parsing, and sparse
 // conversions. Sizes read from memories are checked before use (NNStreamer trusts them).
 #include <cstring>
+#include <exception>
 #include <string>
 #include <vector>
 
 #include "compat/compat_export.h"
+#include "core/sparse.h"
 #include "gsttensor_sparseutil.h"
 #include "gst/config_file.h"
 #include "nnstreamer_plugin_api_util.h"
@@ -186,31 +188,19 @@ NNS_COMPAT_API GstMemory *gst_tensor_sparse_to_dense(GstTensorMetaInfo *meta, Gs
   GstMapInfo map;
   if (!gst_memory_map(mem, &map, GST_MAP_READ)) return nullptr;
   GstMemory *dense = nullptr;
-  gst_tensor_meta_info_init(meta);
-  if (map.size >= 128 && gst_tensor_meta_info_parse_header(meta, map.data)) {
-    const gsize es = gst_tensor_get_element_size(static_cast<tensor_type>(meta->type));
-    const gsize hs = gst_tensor_meta_info_get_header_size(meta);
-    const guint nnz = meta->sparse_info.nnz;
+  try {
+    // The core's reader validates the header, the size and every index (tensor_sparse_dec's).
+    nns::MetaHeader h = nns::sparse_parse(map.data, map.size);
+    const std::size_t out_size = h.info().byte_size();
+    auto *out = static_cast<guint8 *>(g_malloc0(out_size ? out_size : 1));
+    nns::sparse_decode(h, map.data, out);
+    gst_tensor_meta_info_init(meta);
+    gst_tensor_meta_info_parse_header(meta, map.data);
     meta->format = _NNS_TENSOR_FORMAT_STATIC;
-    const gsize out_size = gst_tensor_meta_info_get_data_size(meta);
-    const gsize count = es ? out_size / es : 0;
-    if (es && out_size && hs <= map.size && nnz <= (map.size - hs) / (es + sizeof(guint32))) {
-      auto *out = static_cast<guint8 *>(g_malloc0(out_size));
-      const guint8 *values = map.data + hs;
-      const guint8 *indices = values + es * nnz;
-      bool ok = true;
-      for (guint i = 0; i < nnz && ok; ++i) {
-        guint32 idx;
-        std::memcpy(&idx, indices + i * sizeof idx, sizeof idx);
-        ok = idx < count;
-        if (ok) std::memcpy(out + idx * es, values + i * es, es);
-      }
-      if (ok)
-        dense = gst_memory_new_wrapped(static_cast<GstMemoryFlags>(0), out, out_size, 0, out_size,
-                                       out, g_free);
-      else
-        g_free(out);
-    }
+    dense = gst_memory_new_wrapped(static_cast<GstMemoryFlags>(0), out, out_size, 0, out_size, out,
+                                   g_free);
+  } catch (const std::exception &e) {
+    GST_DEBUG("gst_tensor_sparse_to_dense: %s", e.what());
   }
   gst_memory_unmap(mem, &map);
   return dense;

@@ -9,29 +9,12 @@
 
 #include "compat/compat_export.h"
 #include "core/float16.h"
+#include "nnstreamer_plugin_api_util.h"
 
 namespace {
 
 std::size_t size_of(tensor_type t) {
-  switch (t) {
-    case _NNS_INT8:
-    case _NNS_UINT8:
-      return 1;
-    case _NNS_INT16:
-    case _NNS_UINT16:
-    case _NNS_FLOAT16:
-      return 2;
-    case _NNS_INT32:
-    case _NNS_UINT32:
-    case _NNS_FLOAT32:
-      return 4;
-    case _NNS_INT64:
-    case _NNS_UINT64:
-    case _NNS_FLOAT64:
-      return 8;
-    default:
-      return 0;
-  }
+  return t < _NNS_END ? gst_tensor_get_element_size(t) : 0;
 }
 
 bool is_float(tensor_type t) {

@@ -255,50 +255,11 @@ gboolean single_invoke(GTensorFilterSingle *self, const GstTensorMemory *input,
 
 // ---- properties ----------------------------------------------------------------------------
 
-std::string *string_prop(nns::gst::FilterSettings &s, guint id) {
-  switch (id) {
-    case PROP_FRAMEWORK:
-      return &s.framework;
-    case PROP_MODEL:
-      return &s.model;
-    case PROP_INPUT:
-      return &s.input;
-    case PROP_INPUTTYPE:
-      return &s.inputtype;
-    case PROP_INPUTNAME:
-      return &s.inputname;
-    case PROP_INPUTLAYOUT:
-      return &s.inputlayout;
-    case PROP_OUTPUT:
-      return &s.output;
-    case PROP_OUTPUTTYPE:
-      return &s.outputtype;
-    case PROP_OUTPUTNAME:
-      return &s.outputname;
-    case PROP_OUTPUTLAYOUT:
-      return &s.outputlayout;
-    case PROP_CUSTOM:
-      return &s.custom;
-    case PROP_ACCELERATOR:
-      return &s.accelerator;
-    case PROP_INPUT_COMBINATION:
-      return &s.input_combination;
-    case PROP_OUTPUT_COMBINATION:
-      return &s.output_combination;
-    case PROP_SHARED_KEY:
-      return &s.shared_key;
-    case PROP_CONFIG_FILE:
-      return &s.config_file;
-    default:
-      return nullptr;
-  }
-}
-
 void set_property(GObject *object, guint id, const GValue *value, GParamSpec *pspec) {
   Priv *p = priv_of(G_TENSOR_FILTER_SINGLE(object));
   std::lock_guard lk(p->mu);
   nns::gst::FilterSettings &s = p->s;
-  if (std::string *str = string_prop(s, id)) {
+  if (std::string *str = nns::gst::string_setting(s, g_param_spec_get_name(pspec))) {
     const gchar *v = g_value_get_string(value);
     *str = v ? v : "";
     return;
@@ -371,7 +332,8 @@ void get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
     }
   } catch (...) {
   }
-  if (std::string *str = string_prop(s, id)) return g_value_set_string(value, str->c_str());
+  if (std::string *str = nns::gst::string_setting(s, g_param_spec_get_name(pspec)))
+    return g_value_set_string(value, str->c_str());
   switch (id) {
     case PROP_SILENT:
       g_value_set_boolean(value, s.silent);
