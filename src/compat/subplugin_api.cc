@@ -38,6 +38,16 @@ bool known_kind(subpluginType type) {
          type != static_cast<subpluginType>(NNSCONF_PATH_CUSTOM_FILTERS);
 }
 
+// Replaces the description list of (type, name) with copies of `pairs`.
+void store_desc(Table &t, subpluginType type, const char *name,
+                const std::vector<std::pair<std::string, std::string>> &pairs) {
+  std::lock_guard lk(t.mu);
+  GData *&dl = t.desc[{type, name}];
+  g_datalist_clear(&dl);
+  g_datalist_init(&dl);
+  for (auto &[k, d] : pairs) g_datalist_set_data_full(&dl, k.c_str(), g_strdup(d.c_str()), g_free);
+}
+
 }  // namespace
 
 NNS_COMPAT_API const void *get_subplugin(subpluginType type, const char *name) {
@@ -164,14 +174,7 @@ NNS_COMPAT_API void subplugin_set_custom_property_desc(subpluginType type, const
       }
       pairs.emplace_back(p, d);
     }
-    {
-      std::lock_guard lk(t.mu);
-      GData *&dl = t.desc[{type, name}];
-      g_datalist_clear(&dl);
-      g_datalist_init(&dl);
-      for (auto &[k, d] : pairs)
-        g_datalist_set_data_full(&dl, k.c_str(), g_strdup(d.c_str()), g_free);
-    }
+    store_desc(t, type, name, pairs);
     if (type == NNS_SUBPLUGIN_FILTER)
       nns::compat2x::Filter2xRegistry::get().set_custom_desc(name, std::move(pairs));
   } catch (...) {
@@ -184,14 +187,7 @@ NNS_COMPAT_API GData *subplugin_get_custom_property_desc(subpluginType type, con
     Table &t = table();
     if (type == NNS_SUBPLUGIN_FILTER) {  // also what nnstreamer_filter_set_custom_property_desc set
       auto pairs = nns::compat2x::Filter2xRegistry::get().custom_desc(name);
-      if (!pairs.empty()) {
-        std::lock_guard lk(t.mu);
-        GData *&dl = t.desc[{type, name}];
-        g_datalist_clear(&dl);
-        g_datalist_init(&dl);
-        for (auto &[k, d] : pairs)
-          g_datalist_set_data_full(&dl, k.c_str(), g_strdup(d.c_str()), g_free);
-      }
+      if (!pairs.empty()) store_desc(t, type, name, pairs);
     }
     std::lock_guard lk(t.mu);
     auto it = t.desc.find({type, name});
