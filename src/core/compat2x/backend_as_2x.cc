@@ -52,9 +52,16 @@ struct Inst {
   std::unique_ptr<nns_tensors_desc> out_desc = std::make_unique<nns_tensors_desc>();
 };
 
-std::mutex g_mu;
-std::map<const nns_filter_backend_i *, std::unique_ptr<Exported>> g_tables;  // never shrinks
-std::map<std::string, const Exported *> g_by_name;
+// Never destroyed: tables handed out stay valid until the process ends, also during exit.
+struct Tables {
+  std::mutex mu;
+  std::map<const nns_filter_backend_i *, std::unique_ptr<Exported>> by_backend;
+  std::map<std::string, const Exported *> by_name;
+};
+Tables &tables() {
+  static Tables *t = new Tables;
+  return *t;
+}
 
 void report(const std::string &msg) {
   std::fprintf(stderr, "nnstreamer_filter_find: %s\n", msg.c_str());
@@ -65,9 +72,10 @@ const Exported *exported_of(const GstTensorFilterFramework *fw);
 const Exported *exported_for_prop(const GstTensorFilterProperties *prop) {
   if (!prop || !prop->fwname) return nullptr;
   {
-    std::lock_guard lk(g_mu);
-    auto it = g_by_name.find(prop->fwname);
-    if (it != g_by_name.end()) return it->second;
+    Tables &t = tables();
+    std::lock_guard lk(t.mu);
+    auto it = t.by_name.find(prop->fwname);
+    if (it != t.by_name.end()) return it->second;
   }
   return exported_of(nnstreamer_filter_find(prop->fwname));
 }
@@ -277,8 +285,9 @@ std::vector<accl_hw> accelerators(const nns_filter_backend_i *b) {
 const GstTensorFilterFramework *framework_of_backend(const nns_filter_backend_i *b,
                                                      const std::string &asked) {
   if (!b || !b->name) return nullptr;
-  std::lock_guard lk(g_mu);
-  auto &slot = g_tables[b];
+  Tables &t = tables();
+  std::lock_guard lk(t.mu);
+  auto &slot = t.by_backend[b];
   if (!slot) {
     auto e = std::make_unique<Exported>();
     std::memset(&e->fw, 0, sizeof e->fw);
@@ -294,9 +303,9 @@ const GstTensorFilterFramework *framework_of_backend(const nns_filter_backend_i 
     e->fw.eventHandler = x_event;
     e->fw.subplugin_data = e.get();
     slot = std::move(e);
-    g_by_name.emplace(slot->name, slot.get());
+    t.by_name.emplace(slot->name, slot.get());
   }
-  g_by_name.emplace(asked, slot.get());  // an alias asked for opens the same back end
+  t.by_name.emplace(asked, slot.get());  // an alias asked for opens the same back end
   return &slot->fw;
 }
 
