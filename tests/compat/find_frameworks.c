@@ -372,22 +372,24 @@ static void case_pytorch(void) {
   printf("ok pytorch (9.raw = 9)\n");
 }
 
-static void case_armnn(void) {
-  if (!have_backend("armnn")) {
-    printf("skip armnn: not built\n");
+/* add.tflite (x + 2) through a TensorFlow Lite capable back end: armnn here, and
+ * tensorflow-lite / tensorflow2-lite when such a back end is built. */
+static void case_add_tflite(const char *name) {
+  if (!have_backend(name)) {
+    printf("skip %s: not built\n", name);
     return;
   }
   char model[4200];
   snprintf(model, sizeof model, "%s/models/add.tflite", g_models);
   Opened o;
-  if (open_fw(&o, "armnn", model, NULL, NULL)) return;
-  CHECK(model_info(&o) == 0, "armnn: getModelInfo");
+  if (open_fw(&o, name, model, NULL, NULL)) return;
+  CHECK(model_info(&o) == 0, "%s: getModelInfo", name);
   float x = 3.5f, y = 0.f;
   GstTensorMemory im = {&x, 4}, om = {&y, 4};
-  CHECK(o.fw->invoke(o.fw, &o.prop, o.priv, &im, &om) == 0, "armnn: invoke");
-  CHECK(y == 5.5f, "armnn: add.tflite 3.5 + 2 = %f", y);
+  CHECK(o.fw->invoke(o.fw, &o.prop, o.priv, &im, &om) == 0, "%s: invoke", name);
+  CHECK(y == 5.5f, "%s: add.tflite 3.5 + 2 = %f", name, y);
   close_fw(&o, 1);
-  printf("ok armnn (add.tflite)\n");
+  printf("ok %s (add.tflite)\n", name);
 }
 
 static void case_opencv(void) {
@@ -518,7 +520,9 @@ int main(int argc, char **argv) {
   if (have_models) {
     case_onnxruntime();
     case_pytorch();
-    case_armnn();
+    case_add_tflite("armnn");
+    case_add_tflite("tensorflow-lite");
+    case_add_tflite("tensorflow2-lite");
     case_opencv();
   } else {
     printf("skip onnxruntime, pytorch, armnn, opencv: %s has no models\n", g_models);
