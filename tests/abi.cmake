@@ -1,16 +1,19 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 # The exported dynamic symbols of every library we ship (targets given a cmake/abi/*.map by
-# nns_export_map, and the Python module) against the checked-in lists tests/abi/*.symbols
+# nns_export_map) against the checked-in lists tests/abi/*.symbols
 # (docs/abi.md). `cmake --build build --target abi-update` rewrites the lists from the build.
 # Not in the sanitizer tree (instrumented libraries, and its set of libraries differs).
 if(NOT NNS_SANITIZE)
   get_property(_abi_targets GLOBAL PROPERTY NNS_ABI_TARGETS)
-  if(TARGET nns_python_api)
-    list(APPEND _abi_targets nns_python_api)
-  endif()
   set(_abi_lines "")
   foreach(t ${_abi_targets})
-    string(APPEND _abi_lines "$<TARGET_FILE_NAME:${t}>=$<TARGET_FILE:${t}>\n")
+    # The list is named after the file, but for the Python module, whose file name carries the
+    # interpreter's ABI tag.
+    set(_name "$<TARGET_FILE_NAME:${t}>")
+    if(t STREQUAL "nns_python_api")
+      set(_name "python-nnstreamer-module")
+    endif()
+    string(APPEND _abi_lines "${_name}=$<TARGET_FILE:${t}>\n")
   endforeach()
   file(GENERATE OUTPUT ${CMAKE_BINARY_DIR}/tests/abi-manifest.txt CONTENT "${_abi_lines}")
   set(_abi_cmd /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/abi/check_abi.py

@@ -346,9 +346,9 @@ TEST(PoseEstimation, AfterSplitAndTranspose) {
   auto r = run_pipeline(
       "videotestsrc num-buffers=2 ! video/x-raw,format=GRAY8,width=14,height=28 ! "
       "tensor_converter ! tensor_transform mode=typecast option=float32 ! "
-      "tensor_split name=a tensorseg=1:14:14:1,1:14:14:1 a.src_0 ! "
+      "tensor_split name=a tensorseg=1:14:14:1,1:14:14:1 a.src_0 ! queue ! "
       "tensor_transform mode=transpose option=1:2:0:3 ! "
       "tensor_decoder mode=pose_estimation option1=320:240 option2=14:14 ! "
-      "video/x-raw,format=RGBA,width=320,height=240 ! fakesink a.src_1 ! fakesink");
+      "video/x-raw,format=RGBA,width=320,height=240 ! fakesink a.src_1 ! queue ! fakesink");
   EXPECT_TRUE(r.eos) << r.error_text;
 }
