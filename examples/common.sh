@@ -72,3 +72,33 @@ nns_fetch_astronaut() {
   fi
   echo "$png"
 }
+
+# nns_launch_tflite <gst-launch arguments...>: runs gst-launch-1.0 -q; when it fails because no
+# tensor_filter back end could open the .tflite model ("could not open model": before the TFLite
+# engine is built, framework=tensorflow-lite falls back to armnn, which cannot parse every
+# model), exits $missing (77 skipped locally, 1 in CI); any other failure exits 1. stdout passes
+# through; stderr is shown after the run.
+nns_launch_tflite() {
+  local log rc=0
+  log=$(mktemp)
+  gst-launch-1.0 -q "$@" 2>"$log" || rc=$?
+  cat "$log" >&2
+  if ((rc != 0)); then
+    if grep -q "could not open model" "$log"; then
+      rm -f "$log"
+      nns_die "$missing" "no tensor_filter back end opens the model (TFLite back end not built?)"
+    fi
+    rm -f "$log"
+    nns_die 1 "gst-launch-1.0 failed (exit $rc)"
+  fi
+  rm -f "$log"
+}
+
+# nns_png_size <file.png>: prints "WIDTH HEIGHT" of a PNG file (from its IHDR); exits 1 with a
+# message when the file is not a PNG.
+nns_png_size() {
+  [[ $(head -c 8 "$1" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] ||
+    nns_die 1 "'$1' is not a PNG file"
+  od -An -tu1 -j16 -N8 "$1" |
+    awk '{print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'
+}
