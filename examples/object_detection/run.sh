@@ -41,8 +41,7 @@ labels=$(mktemp)
 trap 'rm -f "$labels"' EXIT
 tail -n +2 "$LABELMAP" >"$labels"
 for photo in "${photos[@]}"; do
-  [[ -f $photo ]] || nns_die "$missing" "photo '$photo' not found"
-  read -r width height < <(nns_png_size "$photo")
+  nns_demo_photo "$photo"
   name=$(basename "$photo" .png)
   out=$outdir/object_detection_$name.png
   echo "photo: $photo (${width}x${height})"
@@ -50,14 +49,10 @@ for photo in "${photos[@]}"; do
   # scores 10:1, count 1 (float32). option3 maps them (LOC:CLASS:SCORE:NUM) and keeps scores
   # above 50 %; boxes are computed in 300x300 pixels (option5) and drawn at the photo's size
   # (option4) on a transparent layer that compositor lays over the photo.
-  nns_launch_tflite \
-    filesrc location="$photo" ! pngdec ! videoconvert ! video/x-raw,format=RGBA ! \
-      imagefreeze num-buffers=1 ! tee name=t \
-    t. ! queue ! mix.sink_0 \
-    t. ! queue ! videoconvert ! videoscale ! video/x-raw,format=RGB,width=300,height=300 ! \
-      tensor_converter ! tensor_filter framework="$FRAMEWORK" model="$MODEL" ! \
-      tensor_decoder mode=bounding_boxes option1=mobilenet-ssd-postprocess option2="$labels" \
-        option3=0:1:2:3,50 option4="$width:$height" option5=300:300 option7=1 ! mix.sink_1 \
-    compositor name=mix sink_1::zorder=1 ! videoconvert ! pngenc ! filesink location="$out"
+  nns_launch_tflite_overlay "$photo" "$out" \
+    videoconvert ! videoscale ! video/x-raw,format=RGB,width=300,height=300 ! tensor_converter ! \
+    tensor_filter framework="$FRAMEWORK" model="$MODEL" ! \
+    tensor_decoder mode=bounding_boxes option1=mobilenet-ssd-postprocess option2="$labels" \
+    option3=0:1:2:3,50 option4="$width:$height" option5=300:300 option7=1
   echo "boxes drawn into $out"
 done

@@ -23,15 +23,11 @@ MODEL=${NNS_SHARED_DIR:-$ROOT/../shared}/models/tflite/movenet_single_pose_light
 for f in "$MODEL" "$BUILD_DIR/subplugins/decoders/libnnstreamer_decoder_pose_estimation.so"; do
   [[ -f $f ]] || nns_die "$missing" "$f not found"
 done
-photo=${1:-}
-[[ -n $photo ]] || photo=$(nns_fetch_astronaut "") || nns_die "$missing" "astronaut.png unavailable"
-[[ -f $photo ]] || nns_die "$missing" "photo '$photo' not found"
-read -r width height < <(nns_png_size "$photo")
+nns_demo_photo "${1:-}"
 out=${NNS_POSE_OUTPUT:-$BUILD_DIR/demo/pose.png}
 mkdir -p "$(dirname "$out")"
-layer_branch=()
 if [[ -n ${NNS_POSE_LAYER:-} ]]; then
-  layer_branch=(l. ! queue ! filesink location="$NNS_POSE_LAYER")
+  nns_overlay_extra=(l. ! queue ! filesink location="$NNS_POSE_LAYER")
 fi
 
 nns_enter_build_env
@@ -40,15 +36,9 @@ echo "photo: $photo (${width}x${height})"
 # 3:17:1:1 = (y, x, score) per keypoint, normalized: option4=keypoints places them on the
 # photo-sized layer (option1); keypoints scoring >= 0.3 (option5, the threshold of TF's MoveNet
 # examples) are drawn, with the 17-point COCO skeleton.
-nns_launch_tflite \
-  filesrc location="$photo" ! pngdec ! videoconvert ! video/x-raw,format=RGBA ! \
-    imagefreeze num-buffers=1 ! tee name=t \
-  t. ! queue ! mix.sink_0 \
-  t. ! queue ! videoconvert ! videoscale ! video/x-raw,format=RGB,width=192,height=192 ! \
-    tensor_converter ! tensor_filter framework="$FRAMEWORK" model="$MODEL" ! \
-    tensor_decoder mode=pose_estimation option1="$width:$height" option4=keypoints \
-      option5=0.3 ! tee name=l \
-  l. ! queue ! mix.sink_1 \
-  compositor name=mix sink_1::zorder=1 ! videoconvert ! pngenc ! filesink location="$out" \
-  "${layer_branch[@]}"
+nns_launch_tflite_overlay "$photo" "$out" \
+  videoconvert ! videoscale ! video/x-raw,format=RGB,width=192,height=192 ! tensor_converter ! \
+  tensor_filter framework="$FRAMEWORK" model="$MODEL" ! \
+  tensor_decoder mode=pose_estimation option1="$width:$height" option4=keypoints option5=0.3 ! \
+  tee name=l l. ! queue
 echo "keypoints drawn into $out"

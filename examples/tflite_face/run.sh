@@ -23,10 +23,7 @@ MODEL=${NNS_SHARED_DIR:-$ROOT/../shared}/models/tflite/face_detection_short_rang
 for f in "$MODEL" "$BUILD_DIR/subplugins/decoders/libnnstreamer_decoder_bounding_boxes.so"; do
   [[ -f $f ]] || nns_die "$missing" "$f not found"
 done
-photo=${1:-}
-[[ -n $photo ]] || photo=$(nns_fetch_astronaut "") || nns_die "$missing" "astronaut.png unavailable"
-[[ -f $photo ]] || nns_die "$missing" "photo '$photo' not found"
-read -r width height < <(nns_png_size "$photo")
+nns_demo_photo "${1:-}"
 out=${NNS_TFLITE_FACE_OUTPUT:-$BUILD_DIR/demo/tflite_face.png}
 mkdir -p "$(dirname "$out")"
 
@@ -36,15 +33,10 @@ echo "photo: $photo (${width}x${height})"
 # centre x, y, size w, h, then 6 keypoints, in input pixels from the anchor centres) and
 # classificators 1:896:1 (logits). option3: score threshold 0.5, MediaPipe's 4-layer anchors
 # (strides 8,16,16,16, fixed size), `xy/` = MediaPipe's x,y,w,h order; option5: model input.
-nns_launch_tflite \
-  filesrc location="$photo" ! pngdec ! videoconvert ! video/x-raw,format=RGBA ! \
-    imagefreeze num-buffers=1 ! tee name=t \
-  t. ! queue ! mix.sink_0 \
-  t. ! queue ! videoconvert ! videoscale ! video/x-raw,format=RGB,width=128,height=128 ! \
-    tensor_converter ! tensor_transform mode=arithmetic option=typecast:float32,div:127.5,add:-1 ! \
-    tensor_filter framework="$FRAMEWORK" model="$MODEL" ! \
-    tensor_decoder mode=bounding_boxes option1=mp-palm-detection \
-      option3=xy/0.5:4:1.0:1.0:0.5:0.5:8:16:16:16 option4="$width:$height" option5=128:128 \
-      option7=1 ! mix.sink_1 \
-  compositor name=mix sink_1::zorder=1 ! videoconvert ! pngenc ! filesink location="$out"
+nns_launch_tflite_overlay "$photo" "$out" \
+  videoconvert ! videoscale ! video/x-raw,format=RGB,width=128,height=128 ! tensor_converter ! \
+  tensor_transform mode=arithmetic option=typecast:float32,div:127.5,add:-1 ! \
+  tensor_filter framework="$FRAMEWORK" model="$MODEL" ! \
+  tensor_decoder mode=bounding_boxes option1=mp-palm-detection \
+  option3=xy/0.5:4:1.0:1.0:0.5:0.5:8:16:16:16 option4="$width:$height" option5=128:128 option7=1
 echo "boxes drawn into $out"

@@ -251,6 +251,21 @@ bool check_map(PoseDecoder *d, const GstTensorInfo &t, unsigned idx, const char 
   return true;
 }
 
+// A body fits k keypoints (k == 0: not known yet). `what` starts the message ("the heatmaps
+// have").
+bool check_body(PoseDecoder *d, unsigned k, const char *what) {
+  if (k && !body_for(d, k)) {
+    d->err.set("%s %u keypoints; without option3 only 14 or 17 are known", what, k);
+    return false;
+  }
+  if (k && !d->body.empty() && k != d->body.size()) {
+    d->err.set("%s %u keypoints, option3 '%s' describes %zu", what, k, d->file.c_str(),
+               d->body.size());
+    return false;
+  }
+  return true;
+}
+
 // keypoints mode: float32 [3:K:1:1] (y, x, score per keypoint).
 bool check_keypoints(PoseDecoder *d, const GstTensorsConfig *config) {
   if (config->info.num_tensors < 1) {
@@ -271,17 +286,7 @@ bool check_keypoints(PoseDecoder *d, const GstTensorsConfig *config) {
       d->err.set("tensor 0 (keypoints) must be 3:K:1:1, got dim%u = %u", i, t.dimension[i]);
       return false;
     }
-  unsigned k = t.dimension[1];
-  if (k && !body_for(d, k)) {
-    d->err.set("the tensor has %u keypoints; without option3 only 14 or 17 are known", k);
-    return false;
-  }
-  if (k && !d->body.empty() && k != d->body.size()) {
-    d->err.set("the tensor has %u keypoints, option3 '%s' describes %zu", k, d->file.c_str(),
-               d->body.size());
-    return false;
-  }
-  return true;
+  return check_body(d, t.dimension[1], "the tensor has");
 }
 
 bool check_input(PoseDecoder *d, const GstTensorsConfig *config) {
@@ -296,15 +301,7 @@ bool check_input(PoseDecoder *d, const GstTensorsConfig *config) {
   const GstTensorInfo &heat = config->info.info[0];
   unsigned k = heat.dimension[0];
   if (!check_map(d, heat, 0, "heatmaps", 0, true)) return false;
-  if (k && !body_for(d, k)) {
-    d->err.set("the heatmaps have %u keypoints; without option3 only 14 or 17 are known", k);
-    return false;
-  }
-  if (k && !d->body.empty() && k != d->body.size()) {
-    d->err.set("the heatmaps have %u keypoints, option3 '%s' describes %zu", k, d->file.c_str(),
-               d->body.size());
-    return false;
-  }
+  if (!check_body(d, k, "the heatmaps have")) return false;
   if (offset) {
     const GstTensorInfo &off = config->info.info[1];
     if (!check_map(d, off, 1, "offsets", 2 * k, false)) return false;
