@@ -38,9 +38,11 @@ TEST(TensorMuxUpstream, RefreshModeOutputsOnEveryArrival) {
       "tensor_mux name=mux sync-mode=refresh ! tensor_sink name=test_sink "
       "appsrc name=appsrc format=time ! other/tensor,type=(string)uint8,"
       "dimension=(string)10:1:1:1,framerate=(fraction)0/1 ! mux.sink_0 "
-      "videotestsrc num-buffers=30 ! video/x-raw,width=160,height=120,format=RGB,"
+      "videotestsrc is-live=true num-buffers=10 ! video/x-raw,width=160,height=120,format=RGB,"
       "framerate=(fraction)30/1 ! tensor_converter ! mux.sink_1",
       &err);
+  // A live video (as upstream's endless one paced by its sink): its frames come after appsrc's
+  // first buffer, so each of them refreshes the output.
   ASSERT_TRUE(p) << (err ? err->message : "");
   Seen seen;
   GstElement *sink = gst_bin_get_by_name(GST_BIN(p), "test_sink");
