@@ -313,7 +313,7 @@ std::vector<std::string> FilterRegistry::auto_candidates(const std::vector<std::
 BackendRef FilterRegistry::resolve(const std::string &framework,
                                    const std::vector<std::string> &models, const FilterConf &conf) {
   std::string fw = trim(framework);
-  bool is_auto = fw.empty() || fw == "auto";
+  bool is_auto = fw.empty() || lower(fw) == "auto";  // "AutO" too, as NNStreamer
   std::vector<std::string> cands;
   if (is_auto) {
     if (models.empty())
