@@ -24,8 +24,10 @@ have_filter() { [ -e "$FILTERS/libnnstreamer_filter_$1.so" ]; }
 run() {
   local name=$1 log=$O/$2.log
   shift 2
-  if ! "$@" >"$log" 2>&1; then
-    bad "$name" "exit $?: $*"
+  local rc=0
+  "$@" >"$log" 2>&1 || rc=$?
+  if [ $rc != 0 ]; then
+    bad "$name" "exit $rc: $*"
     sed 's/^/    /' "$log" | tail -n 20
     return 1
   fi
@@ -62,7 +64,7 @@ else skipped onnxruntime "nnstreamer-cpp-onnxruntime not installed"; fi
 
 # .tflite: whichever back end claims it (tensorflow2-lite, else Arm NN; /etc/nnstreamer.ini).
 if have_filter tensorflow2-lite || have_filter armnn; then
-  if run tflite tflite gst-launch-1.0 -q filesrc location=$M/orange.raw ! application/octet-stream ! \
+  if run tflite tflite gst-launch-1.0 -q filesrc location=$M/orange.raw blocksize=-1 ! application/octet-stream ! \
     tensor_converter input-dim=3:224:224:1 input-type=uint8 ! \
     tensor_filter framework=tensorflow-lite model=$M/mobilenet_v2_1.0_224_quant.tflite ! \
     tensor_decoder mode=image_labeling option1=$M/labels.txt ! filesink location=$O/tflite-label.txt; then

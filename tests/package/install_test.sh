@@ -12,7 +12,8 @@
 # usage: install_test.sh <source dir> <build dir> <shared dir (../shared)>
 # Cached under <build>/package-test/: root/ (the Debian root, made once; the packages'
 # dependencies stay installed in it between runs) and archives/ (downloaded .deb files).
-# NNS_PACKAGE_ROOT_REBUILD=1 makes the root again. Skips (exit 77) when not root, when
+# NNS_PACKAGE_ROOT_REBUILD=1 makes the root again; NNS_PACKAGE_REUSE_DEBS=1 installs the packages
+# already in <build>/deb instead of building them. Skips (exit 77) when not root, when
 # debootstrap is missing or the mirror cannot be reached, or without ../shared/models.
 set -euo pipefail
 SRC=$1 BUILD=$2 SHARED=$3
@@ -51,8 +52,12 @@ if [[ -z ${NNS_PACKAGE_TEST_NS:-} ]]; then
 fi
 
 # 1. The packages (lintian runs inside: no errors allowed).
-bash "$SRC/scripts/package.sh" --no-build
 DEBS=$BUILD/deb
+if [[ ${NNS_PACKAGE_REUSE_DEBS:-0} == 1 && -n $(ls "$DEBS"/*.deb 2>/dev/null) ]]; then
+  say "reusing the packages in $DEBS (NNS_PACKAGE_REUSE_DEBS=1)"
+else
+  bash "$SRC/scripts/package.sh" --no-build
+fi
 phase "packages"
 
 # 2. The Debian 12 root, made once (debootstrap --variant=minbase).
@@ -120,8 +125,10 @@ cp "$BUILD/data/imagenet_labels_1000.txt" "$ROOTFS/tmp/nns-models/"
 cp "$SRC"/tests/package/{checks.sh,invert_filter.c,ml_api_check.c} "$ROOTFS/tmp/nns-check/"
 ours=$(cd "$DEBS" && for d in *.deb; do dpkg-deb -f "$d" Package; done | tr '\n' ' ')
 # A previous run that stopped half-way may have left them installed.
-apt_root purge -y $ours >/dev/null 2>&1 || true
-if ! apt_root install -y --no-install-recommends /tmp/nns-debs/*.deb gstreamer1.0-tools \
+in_root dpkg --purge $ours >/dev/null 2>&1 || true
+debs=()
+for d in "$DEBS"/*.deb; do debs+=("/tmp/nns-debs/${d##*/}"); done
+if ! apt_root install -y --no-install-recommends "${debs[@]}" gstreamer1.0-tools \
   gstreamer1.0-plugins-good gcc libc6-dev pkgconf >"$WORK/apt-install.log" 2>&1; then
   tail -n 30 "$WORK/apt-install.log"
   say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
@@ -159,7 +166,8 @@ else
   [[ -f $ROOTFS/etc/nnstreamer.ini ]] || { say "FAILED: apt-get remove deleted the conffile /etc/nnstreamer.ini"; rc=1; }
   say "check remove: ok (only the conffile /etc/nnstreamer.ini is left)"
 fi
-apt_root purge -y $ours >>"$WORK/apt-remove.log" 2>&1 || true
+# apt-get purge skips packages already removed (only their conffiles left): dpkg --purge.
+in_root dpkg --purge $ours >>"$WORK/apt-remove.log" 2>&1 || true
 if [[ -e $ROOTFS/etc/nnstreamer.ini ]]; then
   say "FAILED: apt-get purge left /etc/nnstreamer.ini"
   rc=1
