@@ -32,8 +32,19 @@ run() {
     return 1
   fi
 }
-# argmax of the uint8 values of a file.
-argmax() { od -An -v -tu1 "$1" | tr -s ' ' '\n' | grep -v '^$' | awk 'NR==1||$1>m{m=$1;i=NR-1} END{print i}'; }
+# argmax <file> [od type: u1 (default) or f4]: index of the largest value.
+argmax() { od -An -v -t"${2:-u1}" "$1" | tr -s ' ' '\n' | grep -v '^$' | awk 'NR==1||$1+0>m{m=$1+0;i=NR-1} END{print i}'; }
+# values <file>: the uint8 values, space-separated; inverted <file>: 255 - each of them.
+values() { od -An -v -tu1 "$1" | tr -s ' ' '\n' | grep -v '^$' | awk '{printf "%d ", $1}'; }
+inverted() { od -An -v -tu1 "$1" | tr -s ' ' '\n' | grep -v '^$' | awk '{printf "%d ", 255-$1}'; }
+# invert_check <name> <framework> <model>: the filter must output 255 - the 28x28 digit.
+invert_check() {
+  if run "$1" "$1" gst-launch-1.0 -q $LENET_SRC ! tensor_filter framework=$2 model=$3 ! \
+    filesink location=$O/$1.bin; then
+    [ "$(inverted "$M/9.raw")" = "$(values "$O/$1.bin")" ] && ok "$1" "${4:-255 - input, exactly}" ||
+      bad "$1" "the filter's output is not 255 - input"
+  fi
+}
 
 # 1. The plugin is found through GStreamer's own plugin folder.
 if run gst-inspect inspect gst-inspect-1.0 tensor_converter; then ok gst-inspect "tensor_converter"; fi
@@ -73,14 +84,28 @@ if have_filter tensorflow2-lite || have_filter armnn; then
   fi
 else skipped tflite "no back end for .tflite installed"; fi
 
+if have_filter opencv; then
+  if run opencv opencv gst-launch-1.0 -q $LENET_SRC ! tensor_transform mode=arithmetic \
+    option=typecast:float32,add:-127.5,div:127.5 ! tensor_filter framework=opencv \
+    model=$M/lenet_deploy.prototxt,$M/lenet_iter_9000.caffemodel ! filesink location=$O/opencv.bin; then
+    c=$(argmax "$O/opencv.bin" f4)
+    [ "$c" = 9 ] && ok opencv "Caffe LeNet: digit 9" || bad opencv "Caffe LeNet says $c for the 9"
+  fi
+else skipped opencv "nnstreamer-cpp-opencv not installed"; fi
+if have_filter lua; then invert_check lua lua "$C/invert.lua"; else skipped lua "nnstreamer-cpp-lua not installed"; fi
+if have_filter python3; then invert_check python3-filter python3 "$C/invert.py"; else
+  skipped python3-filter "nnstreamer-cpp-python3 not installed"; fi
+
+# The transports' plugins load (their libraries resolve) when installed.
+for e in mqttsink:libgstmqtt tensor_src_grpc:libnnstreamer-grpc tensor_ros_sink:libnnstreamer_ros; do
+  if ls /usr/lib/*/gstreamer-1.0/${e#*:}.so >/dev/null 2>&1; then
+    run "plugin-${e%%:*}" "inspect-${e%%:*}" gst-inspect-1.0 "${e%%:*}" && ok "plugin-${e%%:*}" "${e#*:}.so"
+  fi
+done
+
 # 3. A custom filter built with pkg-config against the -dev package.
-if run custom-filter cc-custom sh -c "cc -O2 -Wall -Werror -shared -fPIC -o $O/libinvert.so $C/invert_filter.c \$(pkg-config --cflags --libs nnstreamer)" &&
-  run custom-filter custom gst-launch-1.0 -q $LENET_SRC ! tensor_filter framework=custom \
-    model=$O/libinvert.so ! filesink location=$O/inverted.bin; then
-  want=$(od -An -v -tu1 "$M/9.raw" | tr -s ' ' '\n' | grep -v '^$' | awk '{printf "%d ", 255-$1}')
-  got=$(od -An -v -tu1 "$O/inverted.bin" | tr -s ' ' '\n' | grep -v '^$' | awk '{printf "%d ", $1}')
-  [ "$want" = "$got" ] && ok custom-filter "pkg-config nnstreamer: $(pkg-config --modversion nnstreamer)" ||
-    bad custom-filter "the filter's output is not 255 - input"
+if run custom-filter cc-custom sh -c "cc -O2 -Wall -Werror -shared -fPIC -o $O/libinvert.so $C/invert_filter.c \$(pkg-config --cflags --libs nnstreamer)"; then
+  invert_check custom-filter custom "$O/libinvert.so" "pkg-config nnstreamer $(pkg-config --modversion nnstreamer): 255 - input"
 fi
 
 # 4. A C program on the ML API (single-shot, LeNet on PyTorch).

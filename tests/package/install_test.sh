@@ -40,7 +40,8 @@ for t in debootstrap chroot unshare mount; do
   command -v $t >/dev/null || skip "$t is missing (scripts/deps/packaging.apt)"
 done
 for f in models/pytorch_lenet5.pt data/9.raw models/mobilenet_v2_quant.onnx data/orange.png \
-  data/orange.raw models/mobilenet_v2_1.0_224_quant.tflite labels/labels.txt; do
+  data/orange.raw models/mobilenet_v2_1.0_224_quant.tflite labels/labels.txt \
+  models/lenet_iter_9000.caffemodel; do
   [[ -r $MODELS/$f ]] || skip "$MODELS/$f is missing (../shared/models)"
 done
 [[ -r $BUILD/data/imagenet_labels_1000.txt ]] || skip "$BUILD/data/imagenet_labels_1000.txt is missing"
@@ -122,7 +123,8 @@ for f in models/pytorch_lenet5.pt data/9.raw models/mobilenet_v2_quant.onnx data
   cp "$MODELS/$f" "$ROOTFS/tmp/nns-models/"
 done
 cp "$BUILD/data/imagenet_labels_1000.txt" "$ROOTFS/tmp/nns-models/"
-cp "$SRC"/tests/package/{checks.sh,invert_filter.c,ml_api_check.c} "$ROOTFS/tmp/nns-check/"
+cp "$MODELS/models/lenet_iter_9000.caffemodel" "$SRC/tests/data/lenet_deploy.prototxt" "$ROOTFS/tmp/nns-models/"
+cp "$SRC"/tests/package/{checks.sh,invert_filter.c,ml_api_check.c,invert.lua,invert.py} "$ROOTFS/tmp/nns-check/"
 ours=$(cd "$DEBS" && for d in *.deb; do dpkg-deb -f "$d" Package; done | tr '\n' ' ')
 # A previous run that stopped half-way may have left them installed.
 in_root dpkg --purge $ours >/dev/null 2>&1 || true
