@@ -10,5 +10,5 @@ add_test(NAME package.install
   COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/package/install_test.sh ${CMAKE_SOURCE_DIR}
           ${CMAKE_BINARY_DIR} ${NNS_SHARED_DIR})
 # COST: started first, so that its downloads overlap the rest of the suite (ctest -j2).
-set_tests_properties(package.install PROPERTIES LABELS package TIMEOUT 2400 SKIP_RETURN_CODE 77
+set_tests_properties(package.install PROPERTIES LABELS "package;slow" TIMEOUT 2400 SKIP_RETURN_CODE 77
                      COST 10000)
