@@ -45,6 +45,14 @@ for f in models/pytorch_lenet5.pt data/9.raw models/mobilenet_v2_quant.onnx data
   [[ -r $MODELS/$f ]] || skip "$MODELS/$f is missing (../shared/models)"
 done
 [[ -r $BUILD/data/imagenet_labels_1000.txt ]] || skip "$BUILD/data/imagenet_labels_1000.txt is missing"
+# A tree configured before scripts/setup.sh chose the prefix /usr cannot be packaged: skipped
+# on a developer machine (with the fix), a failure in CI (a fresh tree always has /usr).
+prefix=$(sed -n 's/^CMAKE_INSTALL_PREFIX:PATH=//p' "$BUILD/CMakeCache.txt")
+if [[ $prefix != /usr ]]; then
+  why="$BUILD is configured with CMAKE_INSTALL_PREFIX=$prefix; packages need /usr: cmake -DCMAKE_INSTALL_PREFIX=/usr $BUILD, then build again"
+  [[ ${CI:-} == true ]] && { say "FAILED: $why"; exit 1; }
+  skip "$why"
+fi
 
 # In a private mount namespace, the mounts of the root vanish with the process on every exit
 # path; the EXIT trap unmounts them too.
