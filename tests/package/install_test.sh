@@ -75,6 +75,8 @@ mirror=$(sed -n 's/^URIs: *\(http[^ ]*\/debian\)\/\{0,1\} *$/\1/p' /etc/apt/sour
 [[ -n $mirror ]] || mirror=$(sed -n 's/^deb \(\[[^]]*\] \)\{0,1\}\(http[^ ]*\/debian\)\/\{0,1\} bookworm .*/\2/p' \
   /etc/apt/sources.list 2>/dev/null | head -n 1)
 [[ -n $mirror ]] || mirror=http://deb.debian.org/debian
+security=$(sed -n 's/^URIs: *\(http[^ ]*\/debian-security\)\/\{0,1\} *$/\1/p' \
+  /etc/apt/sources.list.d/*.sources 2>/dev/null | head -n 1)
 [[ ${NNS_PACKAGE_ROOT_REBUILD:-0} == 0 ]] || rm -rf "$ROOTFS"
 mkdir -p "$ARCHIVES/partial"
 if [[ ! -f $ROOTFS/.nns-root-ready ]]; then
@@ -91,6 +93,9 @@ if [[ ! -f $ROOTFS/.nns-root-ready ]]; then
 deb $mirror bookworm main
 deb $mirror bookworm-updates main
 EOF
+  # The security archive too, when this machine uses one: its libraries may be newer than
+  # bookworm's, and the packages' dependencies are computed from this machine's.
+  [[ -z $security ]] || echo "deb $security bookworm-security main" >>"$ROOTFS/etc/apt/sources.list"
   # apt in the root keeps no .deb of its own: the archives folder is bind-mounted (cache).
   echo 'Binary::apt::APT::Keep-Downloaded-Packages "true";' >"$ROOTFS/etc/apt/apt.conf.d/90nns-keep"
   touch "$ROOTFS/.nns-root-ready"
@@ -116,12 +121,15 @@ in_root() { env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 ch
 apt_root() { in_root env DEBIAN_FRONTEND=noninteractive apt-get -q -o Dpkg::Use-Pty=0 "$@"; }
 
 # 3. Install the packages (and what the checks use: gst-launch, pngdec, a C compiler).
-lists=$(find "$ROOTFS/var/lib/apt/lists" -name '*Packages*' -mmin -1440 2>/dev/null | head -n 1)
-if [[ -z $lists ]]; then
+# apt-get update once a day, or when the root's sources changed.
+stamp=$WORK/apt-updated
+if [[ ! -f $stamp || $ROOTFS/etc/apt/sources.list -nt $stamp ||
+  -n $(find "$stamp" -mmin +1440 2>/dev/null) ]]; then
   apt_root update >"$WORK/apt-update.log" 2>&1 || {
     tail -n 5 "$WORK/apt-update.log"
     skip "apt-get update failed in the test root ($mirror)"
   }
+  touch "$stamp"
 fi
 rm -rf "$ROOTFS/tmp/nns-debs" "$ROOTFS/tmp/nns-models" "$ROOTFS/tmp/nns-check"
 mkdir -p "$ROOTFS/tmp/nns-debs" "$ROOTFS/tmp/nns-models" "$ROOTFS/tmp/nns-check"
