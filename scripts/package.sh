@@ -22,7 +22,7 @@ for a in "$@"; do
     --no-build) do_build=0 ;;
     --no-lintian) do_lintian=0 ;;
     -h | --help)
-      sed -n '3,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+      sed -n '3,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
       exit 0
       ;;
     *)
