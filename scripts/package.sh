@@ -83,6 +83,18 @@ packages=$(python3 "$ROOT/packaging/gen-debian.py" --table "$ROOT/packaging/pack
   --note "Built from commit $commit by scripts/package.sh.") ||
   fail "packaging/packages.txt does not match the installed files (see above)"
 printf 'NNS_STAGE := %s\n' "$stage" >>"$OUT/src/debian/nns-vars.mk"
+# symbols files for the libraries with versioned SONAMEs in libdir (ML API, nnstreamer-edge), so
+# that packages built against them get per-symbol minimum versions; written from this build
+# (removed symbols are caught by the abi.symbols test, docs/abi.md), checked by dh_makeshlibs.
+for inst in "$OUT"/src/debian/*.install; do
+  pkg=$(basename "$inst" .install)
+  libs=$(grep -E "^usr/lib/$multiarch/lib[^/]*\.so\.[0-9]" "$inst" || true)
+  [[ -n $libs ]] || continue
+  args=()
+  for l in $libs; do args+=(-e"$stage/$l"); done
+  (cd "$OUT/src" && dpkg-gensymbols -q -p"$pkg" -v"$version" -P"$stage" "${args[@]}" \
+    -O"debian/$pkg.symbols") || fail "dpkg-gensymbols for $pkg"
+done
 say "version $version; packages: $packages"
 
 (cd "$OUT/src" && dpkg-buildpackage -b -nc -us -uc -d) >"$OUT/dpkg-buildpackage.log" 2>&1 ||
