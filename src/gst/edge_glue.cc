@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "gst/gst_ptr.h"
+#include "gst/query_batch.h"
 #include "gst/tensor_buffer.h"
 #include "gst/tensor_caps.h"
 
@@ -189,10 +190,19 @@ GstBuffer *buffer_from_message(edge::Message &&m, const TensorsConfig *config) {
 }
 
 std::string QueryServerShared::capability() {
-  auto peer_caps = [](GstPad *pad) -> std::string {
+  guint batch;
+  {
+    std::lock_guard<std::mutex> l(lock);
+    batch = max_batch;
+  }
+  auto peer_caps = [batch](GstPad *pad) -> std::string {
     if (!pad) return "ANY";
     CapsPtr c(gst_pad_peer_query_caps(pad, nullptr));
     if (!c) return "ANY";
+    if (batch > 1) {  // batches of `batch` downstream: the clients send and get one slot
+      CapsPtr one(unbatch_caps(c.get(), batch));
+      if (!gst_caps_is_empty(one.get())) c = std::move(one);
+    }
     GCharPtr s(gst_caps_to_string(c.get()));
     return s.get();
   };

@@ -7,6 +7,8 @@
 
 #include <gst/gst.h>
 
+#include <chrono>
+
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -71,7 +73,9 @@ struct QueryServerShared {
   std::condition_variable cv;
   std::shared_ptr<edge::ServerNode> node;  // started and stopped by serversrc
   std::deque<edge::Message> requests;      // arrived, not yet pushed by serversrc
+  std::deque<std::chrono::steady_clock::time_point> arrived;  // of each request (batching)
   bool flushing = false;
+  guint max_batch = 1;         // serversrc max-batch: the capability shows one request's caps
   GstPad *src_pad = nullptr;   // serversrc's src pad (its peer gives the accepted caps)
   GstPad *sink_pad = nullptr;  // serversink's sink pad (its peer gives the answer caps)
   std::string capability();    // "@query_server_src_caps@...@query_server_sink_caps@..."
