@@ -59,6 +59,7 @@ struct ClientPool::Link {
   std::deque<Inflight> fifo;
   Clock::time_point last_try{};
   bool tried = false;
+  bool warned = false;  // a failed (re)connect was reported
   uint64_t sent = 0, received = 0, lost = 0, resent = 0;
   double lat_sum = 0, lat_max = 0;
 };
@@ -265,9 +266,16 @@ void ClientPool::maintain(int timeout_ms, std::string *why, bool *refused, bool 
     }
   }
   for (auto &l : due) {
-    if (open(l, timeout_ms, why, refused) && announce && cb_.on_info)
-      cb_.on_info("query server " + l->name + " joined (" + std::to_string(live()) +
-                  " server(s) in use)");
+    std::string failed;
+    if (open(l, timeout_ms, why ? why : &failed, refused)) {
+      l->warned = false;
+      if (announce && cb_.on_info)
+        cb_.on_info("query server " + l->name + " joined (" + std::to_string(live()) +
+                    " server(s) in use)");
+    } else if (!why && !l->warned && cb_.on_warning) {
+      l->warned = true;  // once until it works again
+      cb_.on_warning("query server " + l->name + " not used" + failed);
+    }
   }
 }
 

@@ -38,11 +38,19 @@ std::vector<uint8_t> expected(int client, int n) {
   return v;
 }
 
+// Caps of a batch of `n` 64:1 requests.
+std::string batch_caps(int n) {
+  return "other/tensors,format=static,num_tensors=1,dimensions=(string)64:" + std::to_string(n) +
+         ",types=(string)uint8,framerate=(fraction)0/1";
+}
+
+// `batch` > 1: a batching server (max-batch, batch-timeout 1 ms); 1: as an upstream server.
 std::string hybrid_server(uint16_t port, const mqtt_test::Broker &b, const std::string &topic,
-                          const std::string &src_extra = "") {
+                          int batch = 1) {
   return "tensor_query_serversrc connect-type=HYBRID host=127.0.0.1 port=" + std::to_string(port) +
-         " dest-host=127.0.0.1 dest-port=" + b.port_str() + " topic=" + topic + " " + src_extra +
-         " ! " + kCaps + " ! " + kModel + "tensor_query_serversink connect-type=HYBRID";
+         " dest-host=127.0.0.1 dest-port=" + b.port_str() + " topic=" + topic +
+         (batch > 1 ? " max-batch=" + std::to_string(batch) + " batch-timeout=1000" : "") + " ! " +
+         batch_caps(batch) + " ! " + kModel + "tensor_query_serversink connect-type=HYBRID";
 }
 
 std::string tcp_server(uint16_t port) {
@@ -194,8 +202,8 @@ TEST(EdgeChild, Run) {
   edge_test::run_child();
 }
 
-// 8 clients x 500 frames over 3 servers found through the broker: each frame answered once,
-// in order, equal to the model; every server used.
+// 8 clients x 500 frames over 3 servers found through the broker (two batching, one as an
+// upstream server): each frame answered once, in order, equal to the model; every server used.
 TEST(QueryBalance, EightClientsThreeServersEveryFrameOnceInOrder) {
   mqtt_test::Broker b;
   MQTT_REQUIRE_BROKER(b);
@@ -203,7 +211,7 @@ TEST(QueryBalance, EightClientsThreeServersEveryFrameOnceInOrder) {
   Servers s;
   for (int i = 0; i < 3; ++i) {
     const uint16_t port = free_port();
-    s.add(hybrid_server(port, b, topic), port, "lb");
+    s.add(hybrid_server(port, b, topic, i == 2 ? 1 : 4), port, "lb");
   }
   ASSERT_TRUE(s.wait());
   std::this_thread::sleep_for(200ms);  // the three announcements reach the broker
@@ -225,7 +233,7 @@ TEST(QueryBalance, KilledServerLosesNothingWithResend) {
   Servers s;
   for (int i = 0; i < 3; ++i) {
     const uint16_t port = free_port();
-    s.add(hybrid_server(port, b, topic), port, "lbk");
+    s.add(hybrid_server(port, b, topic, i == 0 ? 1 : 8), port, "lbk");
   }
   ASSERT_TRUE(s.wait());
   std::this_thread::sleep_for(200ms);

@@ -223,7 +223,8 @@ std::optional<std::string> check_server_caps(GstTensorQueryClient *self, const s
     return "cannot parse the server's answer caps '" + *sink + "'";
   if (gst_caps_is_any(out.get())) out.reset(gst_caps_from_string(p->in_caps.c_str()));
   if (p->answer_caps_set) {  // another server of the pool: its answers must be the same
-    if (caps_str(out.get()) != p->out_candidates)
+    nns::gst::CapsPtr have(gst_caps_from_string(p->out_candidates.c_str()));
+    if (!have || !gst_caps_can_intersect(out.get(), have.get()))
       return "its answer caps '" + caps_str(out.get()) + "' differ from the other servers' '" +
              p->out_candidates + "'";
     return std::nullopt;
