@@ -358,7 +358,8 @@ void make_node(GstTensorQueryClient *self, int timeout_ms) {
   nns::edge::NodeOptions o = s.conn.node_options(nns::edge::Role::kQueryClient);
   o.connect_timeout_ms = timeout_ms;
   if (s.balance != 0 ||
-      (s.conn.type() == nns::edge::ConnectType::kTcp && o.dest_host.find(',') != std::string::npos))
+      (s.conn.type() == nns::edge::ConnectType::kTcp &&
+       o.dest_host.find_first_of(",:") != std::string::npos))  // a list, or host:port
     return make_pool(self, s, o);
   nns::edge::NodeCallbacks cb;
   cb.alloc = nns::gst::gst_memory_allocator();
