@@ -19,6 +19,7 @@
 // /usr/bin/python3 + onnx (the Reshape's [1,-1] becomes [0,-1]); max-batch=1 runs the original.
 //
 // usage: query_lb_bench [--frames N] [--clients C] [--part batch|lb|all] [--model PATH]
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -218,7 +219,8 @@ struct Proc {
 
 Proc spawn(const std::vector<std::string> &args) {
   int in[2], out[2];
-  if (pipe(in) != 0 || pipe(out) != 0) std::exit(1);
+  // O_CLOEXEC: a later child must not keep an earlier one's stdin open (its EOF is the stop).
+  if (pipe2(in, O_CLOEXEC) != 0 || pipe2(out, O_CLOEXEC) != 0) std::exit(1);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_adddup2(&fa, in[0], 0);
