@@ -6,6 +6,7 @@
 // The batching server runs in this process (its stats are read), the unbatched reference
 // server in another; clients here, over loopback sockets.
 #include <cmath>
+#include <fstream>
 
 #include "edge_test_util.h"
 #include "support/harness.h"
@@ -42,6 +43,22 @@ B.tofile(out + "/B.raw")
 using nns::test::read_file;
 
 std::string g_dir;  // generated models, "" when they could not be made
+
+// The same Y = X W + B as a TorchScript module (traced at batch 8; Linear takes any batch).
+const char *kGenTorch = R"PY(
+import sys, numpy as np, torch
+d = sys.argv[1]
+W = torch.from_numpy(np.fromfile(d + "/W.raw", dtype=np.float32).reshape(8, 4))
+B = torch.from_numpy(np.fromfile(d + "/B.raw", dtype=np.float32))
+class M(torch.nn.Module):
+    def __init__(self):
+        super().__init__()
+        self.register_buffer("w", W)
+        self.register_buffer("b", B)
+    def forward(self, x):
+        return x @ self.w + self.b
+torch.jit.trace(M().eval(), torch.zeros(8, 8)).save(d + "/lin.pt")
+)PY";
 
 std::string filter(const std::string &model, int n) {
   return "tensor_filter framework=onnxruntime model=" + g_dir + "/" + model +
@@ -203,6 +220,35 @@ TEST_F(QueryBatch, DynamicBatchModelAnswersAsUnbatched) {
   gst_structure_free(st);
   EXPECT_EQ(requests, 8u * 40u);
   EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
+}
+
+// PyTorch back end: a TorchScript module run at batch 8 (input=8:8), 8 clients.
+TEST_F(QueryBatch, PytorchModelAtBatchEight) {
+  const std::string so =
+      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_pytorch.so";
+  if (!std::ifstream(so)) GTEST_SKIP() << "pytorch back end not built (" << so << ")";
+  const std::string script = g_dir + "/gen_torch.py";
+  std::ofstream(script) << kGenTorch;
+  if (std::system(
+          ("/usr/bin/python3 " + script + " " + g_dir + " > " + g_dir + "/gen_torch.log 2>&1")
+              .c_str()) != 0)
+    NNS_SKIP_UNLESS_CI("/usr/bin/python3 with torch cannot write the TorchScript model");
+  const uint16_t port = free_port();
+  LocalServer batched(
+      "tensor_query_serversrc name=src host=127.0.0.1 port=" + std::to_string(port) +
+      " max-batch=8 batch-timeout=20000 ! other/tensors,format=static,num_tensors=1,"
+      "dimensions=(string)8:8,types=float32,framerate=0/1 ! tensor_filter framework=pytorch "
+      "model=" +
+      g_dir +
+      "/lin.pt input=8:8 inputtype=float32 output=4:8 outputtype=float32 ! "
+      "tensor_query_serversink");
+  const auto got = ask(port, 8, 20);
+  expect_model(got);
+  GstStructure *st = batched.stats();
+  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
+  gst_structure_free(st);
+  EXPECT_EQ(requests, 8u * 20u);
+  EXPECT_LT(batches * 2, requests);
 }
 
 // A model with a fixed batch of 8.
