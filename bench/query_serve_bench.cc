@@ -49,12 +49,13 @@
 
 #include "../tests/mqtt/mosquitto_broker.h"  // free_port()
 #include "gst/plugin_init.h"
+#include "query_bench_util.h"
 
 extern char **environ;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC: comparable between processes
+using namespace nns::bench::query;  // NOLINT: now_ns, cpu_s, pct, loadavg, launch, read_all
 constexpr std::size_t kFrame = 224 * 224 * 3;
 constexpr int kWarm = 5;
 constexpr int kOrange = 950;  // ImageNet index of "orange" (imagenet_labels_1000.txt)
@@ -63,40 +64,6 @@ const char *kPre =
     "tensor_transform mode=arithmetic option=typecast:float32,per-channel:true@0,"
     "add:-123.675@0,add:-116.280@1,add:-103.530@2,div:58.3950@0,div:57.1200@1,div:57.3750@2 ! "
     "tensor_transform mode=transpose option=1:2:0:3";
-
-int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch())
-      .count();
-}
-
-double cpu_s() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
-}
-
-double pct(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
-}
-
-std::string loadavg() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  f >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
-
-GstElement *launch(const std::string &d) {
-  GError *err = nullptr;
-  GstElement *p = gst_parse_launch(d.c_str(), &err);
-  if (!p || err) {
-    std::fprintf(stderr, "%s: %s\n", d.c_str(), err ? err->message : "?");
-    std::exit(1);
-  }
-  return p;
-}
 
 GstElement *by_name(GstElement *p, const char *n) {
   return gst_bin_get_by_name(GST_BIN(p), n);
@@ -306,34 +273,10 @@ int client_main(uint16_t port, const std::string &mode, int frames, int win, int
 
 // ---------------------------------------------------------------- the parent
 
-struct Child {
-  pid_t pid = -1;
-  FILE *to = nullptr, *from = nullptr;
-};
+using nns::bench::query::Child;
 
 Child spawn_client(const std::vector<std::string> &args) {
-  int in[2], out[2];
-  if (pipe(in) != 0 || pipe(out) != 0) std::exit(1);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-  posix_spawn_file_actions_adddup2(&fa, out[1], 1);
-  for (int fd : {in[0], in[1], out[0], out[1]}) posix_spawn_file_actions_addclose(&fa, fd);
-  std::vector<std::string> a = args;
-  std::vector<char *> argv;
-  for (auto &s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  Child c;
-  if (posix_spawn(&c.pid, "/proc/self/exe", &fa, nullptr, argv.data(), environ) != 0) {
-    std::perror("posix_spawn");
-    std::exit(1);
-  }
-  posix_spawn_file_actions_destroy(&fa);
-  close(in[0]);
-  close(out[1]);
-  c.to = fdopen(in[1], "w");
-  c.from = fdopen(out[0], "r");
-  return c;
+  return nns::bench::query::spawn_child(args);
 }
 
 struct Served {
@@ -426,11 +369,6 @@ struct Series {
   double lo() const { return v.empty() ? 0 : *std::min_element(v.begin(), v.end()); }
   double hi() const { return v.empty() ? 0 : *std::max_element(v.begin(), v.end()); }
 };
-
-std::vector<uint8_t> read_all(const std::string &p) {
-  std::ifstream f(p, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
-}
 
 }  // namespace
 
