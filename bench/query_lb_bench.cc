@@ -83,35 +83,6 @@ int server_main(uint16_t port, int batch, const std::string &timeout_us, const s
 
 // ---------------------------------------------------------------- client process
 
-struct Probes {
-  std::mutex m;
-  std::map<GstClockTime, int64_t> sent;
-  std::vector<double> rtt_us;
-  GstClockTime timed_from = GST_CLOCK_TIME_NONE;
-  int64_t last = 0;
-  int answers = 0;
-  static GstPadProbeReturn in(GstPad *, GstPadProbeInfo *i, gpointer d) {
-    auto *p = static_cast<Probes *>(d);
-    std::lock_guard<std::mutex> l(p->m);
-    p->sent[GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(i))] = now_ns();
-    return GST_PAD_PROBE_OK;
-  }
-  static GstPadProbeReturn out(GstPad *, GstPadProbeInfo *i, gpointer d) {
-    auto *p = static_cast<Probes *>(d);
-    const int64_t t = now_ns();
-    const GstClockTime pts = GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(i));
-    std::lock_guard<std::mutex> l(p->m);
-    auto it = p->sent.find(pts);
-    if (p->timed_from != GST_CLOCK_TIME_NONE && pts >= p->timed_from && it != p->sent.end()) {
-      p->rtt_us.push_back((t - it->second) / 1e3);
-      p->last = t;
-      ++p->answers;
-    }
-    if (it != p->sent.end()) p->sent.erase(it);
-    return GST_PAD_PROBE_OK;
-  }
-};
-
 int client_main(const std::string &dest, int frames, const std::string &policy,
                 const std::vector<uint8_t> &frame) {
   GstElement *p = launch(
@@ -121,10 +92,10 @@ int client_main(const std::string &dest, int frames, const std::string &policy,
       " timeout=10000 max-request=1 load-balance=" + policy + " ! fakesink sync=false async=false");
   GstElement *src = gst_bin_get_by_name(GST_BIN(p), "src"),
              *q = gst_bin_get_by_name(GST_BIN(p), "q");
-  Probes pr;
+  ClientProbes pr;
   GstPad *qs = gst_element_get_static_pad(q, "sink"), *qo = gst_element_get_static_pad(q, "src");
-  gst_pad_add_probe(qs, GST_PAD_PROBE_TYPE_BUFFER, Probes::in, &pr, nullptr);
-  gst_pad_add_probe(qo, GST_PAD_PROBE_TYPE_BUFFER, Probes::out, &pr, nullptr);
+  gst_pad_add_probe(qs, GST_PAD_PROBE_TYPE_BUFFER, ClientProbes::in, &pr, nullptr);
+  gst_pad_add_probe(qo, GST_PAD_PROBE_TYPE_BUFFER, ClientProbes::out, &pr, nullptr);
   gst_element_set_state(p, GST_STATE_PLAYING);
   uint64_t n = 0;
   auto push = [&] {
@@ -134,10 +105,7 @@ int client_main(const std::string &dest, int frames, const std::string &policy,
   };
   for (int i = 0; i < kWarm; ++i) push();
   g_usleep(300000);
-  {
-    std::lock_guard<std::mutex> l(pr.m);
-    pr.timed_from = n * GST_MSECOND;
-  }
+  pr.timed_from = n * GST_MSECOND;
   std::printf("ready\n");
   std::fflush(stdout);
   char go[16];
@@ -158,8 +126,9 @@ int client_main(const std::string &dest, int frames, const std::string &policy,
   if (m) gst_message_unref(m);
   gst_object_unref(bus);
   std::lock_guard<std::mutex> l(pr.m);
-  std::printf("result answers=%d t0=%lld t1=%lld cpu=%.3f rtt", pr.answers,
-              static_cast<long long>(t0), static_cast<long long>(pr.last), cpu_s() - c0);
+  std::printf("result answers=%d t0=%lld t1=%lld cpu=%.3f rtt", pr.timed.load(),
+              static_cast<long long>(t0), static_cast<long long>(pr.last_answer.load()),
+              cpu_s() - c0);
   for (double r : pr.rtt_us) std::printf(" %.0f", r);
   std::printf("\n");
   std::fflush(stdout);
@@ -298,12 +267,7 @@ std::string batched_model(const std::string &model) {
 }  // namespace
 
 int main(int argc, char **argv) {
-  gst_init(&argc, &argv);
-  nns_register_static();
-  setenv("NNSTREAMER_FILTERS", (std::string(NNS_BUILD_DIR) + "/subplugins/filters").c_str(), 0);
-  const char *sd = std::getenv("NNS_SHARED_DIR");
-  const std::string shared =
-      (sd ? std::string(sd) : std::string(NNS_SOURCE_DIR) + "/../shared") + "/models/upstream";
+  const std::string shared = init_and_shared_dir(&argc, &argv);
   std::string model = shared + "/models/mobilenet_v2_quant.onnx";
   if (argc >= 7 && !std::strcmp(argv[1], "--server"))
     return server_main(static_cast<uint16_t>(std::atoi(argv[2])), std::atoi(argv[3]), argv[4],

@@ -133,51 +133,7 @@ struct Busy {
   }
 };
 
-// Argmax of a float32 score tensor (the model's 1000 classes).
-int argmax(GstBuffer *b) {
-  GstMapInfo m;
-  if (!gst_buffer_map(b, &m, GST_MAP_READ)) return -1;
-  const auto *f = reinterpret_cast<const float *>(m.data);
-  const std::size_t n = m.size / sizeof(float);
-  const int best = n ? static_cast<int>(std::max_element(f, f + n) - f) : -1;
-  gst_buffer_unmap(b, &m);
-  return best;
-}
-
 // ---------------------------------------------------------------- the client process
-
-struct ClientProbes {
-  std::mutex m;
-  std::map<GstClockTime, int64_t> sent;   // pts -> last time offered (a re-offer overwrites)
-  std::vector<double> rtt_us;             // timed frames only
-  std::atomic<int> answers{0}, timed{0};  // all answers; answers to timed frames
-  std::atomic<GstClockTime> timed_from{GST_CLOCK_TIME_NONE};  // first timed frame's pts
-  std::atomic<int64_t> last_answer{0};
-  std::atomic<int> label{-1};
-  static GstPadProbeReturn in(GstPad *, GstPadProbeInfo *i, gpointer d) {
-    auto *p = static_cast<ClientProbes *>(d);
-    std::lock_guard<std::mutex> l(p->m);
-    p->sent[GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(i))] = now_ns();
-    return GST_PAD_PROBE_OK;
-  }
-  static GstPadProbeReturn out(GstPad *, GstPadProbeInfo *i, gpointer d) {
-    auto *p = static_cast<ClientProbes *>(d);
-    const int64_t t = now_ns();
-    GstBuffer *b = GST_PAD_PROBE_INFO_BUFFER(i);
-    const GstClockTime pts = GST_BUFFER_PTS(b);
-    p->label = argmax(b);
-    ++p->answers;
-    std::lock_guard<std::mutex> l(p->m);
-    auto it = p->sent.find(pts);
-    if (p->timed_from != GST_CLOCK_TIME_NONE && pts >= p->timed_from) {
-      if (it != p->sent.end()) p->rtt_us.push_back((t - it->second) / 1e3);
-      p->last_answer = t;
-      ++p->timed;
-    }
-    if (it != p->sent.end()) p->sent.erase(it);
-    return GST_PAD_PROBE_OK;
-  }
-};
 
 guint64 stat(GstElement *q, const char *field) {
   GstStructure *s = nullptr;
@@ -373,12 +329,7 @@ struct Series {
 }  // namespace
 
 int main(int argc, char **argv) {
-  gst_init(&argc, &argv);
-  nns_register_static();
-  setenv("NNSTREAMER_FILTERS", (std::string(NNS_BUILD_DIR) + "/subplugins/filters").c_str(), 0);
-  const char *sd = std::getenv("NNS_SHARED_DIR");
-  const std::string shared =
-      (sd ? std::string(sd) : std::string(NNS_SOURCE_DIR) + "/../shared") + "/models/upstream";
+  const std::string shared = init_and_shared_dir(&argc, &argv);
   std::string model = shared + "/models/mobilenet_v2_quant.onnx";
   const std::vector<uint8_t> frame = read_all(shared + "/data/orange.raw");
   int frames = 60, runs = 7, clients = 2, win = 2, threads = 1, poll_us = 2000;
