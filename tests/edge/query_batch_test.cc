@@ -311,7 +311,7 @@ TEST_F(QueryBatch, TimeoutBoundsALoneRequest) {
     const double bound = static_cast<double>(timeout_us) / 1000.0;
     RecordProperty("lone_request_ms_timeout_" + std::to_string(timeout_us), std::to_string(worst));
     EXPECT_GE(best, bound) << "a lone request left before batch-timeout";
-    EXPECT_LT(worst, bound + 80.0)
+    EXPECT_LT(worst, bound + 150.0)
         << "a lone request waited well past batch-timeout=" << timeout_us << " us";
   }
 }
