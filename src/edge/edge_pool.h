@@ -14,9 +14,11 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -62,6 +64,58 @@ struct ServerStats {
   bool live = false;
   uint64_t sent = 0, received = 0, lost = 0, resent = 0, in_flight = 0;
   double latency_mean_us = 0, latency_max_us = 0;
+};
+
+// The client's reorder buffer: requests numbered in input order (contiguous numbers), answers
+// and losses that arrive out of order held until every older request is resolved. P is what
+// the caller keeps per request (its timestamps).
+template <typename P>
+class InOrder {
+ public:
+  void add(uint64_t seq, P p) { waiting_.push_back({seq, std::move(p)}); }
+  // In flight and not yet resolved (a late duplicate, after a re-send, is not).
+  bool unresolved(uint64_t seq) const {
+    return !waiting_.empty() && seq >= waiting_.front().first && seq <= waiting_.back().first &&
+           !done_.count(seq) && !lost_.count(seq);
+  }
+  bool answer(uint64_t seq, Message &&m) {
+    if (!unresolved(seq)) return false;
+    done_.emplace(seq, std::move(m));
+    return true;
+  }
+  bool lose(uint64_t seq) {
+    if (!unresolved(seq)) return false;
+    lost_.insert(seq);
+    return true;
+  }
+  // Hands the resolved requests at the front over, oldest first: on_answer(P &, Message &&)
+  // or on_lost(P &).
+  template <typename A, typename L>
+  void pop_ready(A on_answer, L on_lost) {
+    while (!waiting_.empty()) {
+      auto &[seq, p] = waiting_.front();
+      if (auto it = done_.find(seq); it != done_.end()) {
+        on_answer(p, std::move(it->second));
+        done_.erase(it);
+      } else if (lost_.erase(seq)) {
+        on_lost(p);
+      } else {
+        break;
+      }
+      waiting_.pop_front();
+    }
+  }
+  std::size_t size() const { return waiting_.size(); }
+  void clear() {
+    waiting_.clear();
+    done_.clear();
+    lost_.clear();
+  }
+
+ private:
+  std::deque<std::pair<uint64_t, P>> waiting_;
+  std::map<uint64_t, Message> done_;
+  std::set<uint64_t> lost_;
 };
 
 class ClientPool {

@@ -219,6 +219,39 @@ std::string QueryServerShared::capability() {
   return s;
 }
 
+GType query_load_balance_get_type() {
+  static GType type = 0;
+  static const GEnumValue values[] = {
+      {static_cast<gint>(edge::Balance::kNone), "one server at a time, the others for fail-over",
+       "none"},
+      {static_cast<gint>(edge::Balance::kRoundRobin), "each request to the next server",
+       "round-robin"},
+      {static_cast<gint>(edge::Balance::kLeastOutstanding),
+       "each request to the server with the fewest requests in flight", "least-outstanding"},
+      {0, nullptr, nullptr}};
+  if (g_once_init_enter(&type))
+    g_once_init_leave(&type, g_enum_register_static("GstTensorQueryLoadBalance", values));
+  return type;
+}
+
+void add_server_stats(GstStructure *st, const std::vector<edge::ServerStats> &servers) {
+  GValue arr = G_VALUE_INIT;
+  gst_value_array_init(&arr, static_cast<guint>(servers.size()));
+  for (const auto &sv : servers) {
+    GValue one = G_VALUE_INIT;
+    g_value_init(&one, GST_TYPE_STRUCTURE);
+    g_value_take_boxed(
+        &one, gst_structure_new("server", "name", G_TYPE_STRING, sv.name.c_str(), "live",
+                                G_TYPE_BOOLEAN, sv.live, "sent", G_TYPE_UINT64, sv.sent, "received",
+                                G_TYPE_UINT64, sv.received, "lost", G_TYPE_UINT64, sv.lost,
+                                "resent", G_TYPE_UINT64, sv.resent, "in-flight", G_TYPE_UINT64,
+                                sv.in_flight, "latency-mean-us", G_TYPE_DOUBLE, sv.latency_mean_us,
+                                "latency-max-us", G_TYPE_DOUBLE, sv.latency_max_us, nullptr));
+    gst_value_array_append_and_take_value(&arr, &one);
+  }
+  gst_structure_take_value(st, "servers", &arr);
+}
+
 std::shared_ptr<QueryServerShared> query_server_get(guint id) {
   static std::mutex m;
   static auto *table = new std::map<guint, std::shared_ptr<QueryServerShared>>();

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/tensor_info.h"
+#include "edge/edge_pool.h"
 #include "edge/edge_node.h"
 
 G_BEGIN_DECLS
@@ -38,6 +39,10 @@ GstMetaQuery *buffer_get_meta_query(GstBuffer *buf);
 // GEnum "tensor_query_protocol" (TCP=0, HYBRID=2) and "edge_protocol" (TCP=0, MQTT=1,
 // HYBRID=2, CUSTOM=3), nnstreamer-edge's nns_edge_connect_type_e values.
 GType query_connect_type_get_type();
+// tensor_query_client load-balance (values of nns::edge::Balance).
+GType query_load_balance_get_type();
+// Adds "servers", an array of one structure per server of a load-balancing client.
+void add_server_stats(GstStructure *st, const std::vector<edge::ServerStats> &servers);
 GType edge_connect_type_get_type();
 // Throws nns::Error(kSettings) "connect-type X is not supported yet ..." unless TCP or HYBRID.
 void require_tcp(int connect_type);

@@ -21,9 +21,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
-#include <map>
 #include <mutex>
-#include <set>
 #include <vector>
 
 #include "edge/edge_pool.h"
@@ -91,9 +89,7 @@ struct ClientPriv {
   std::deque<Pending> pending;  // requests in flight, oldest first
   // Load-balance mode: requests not yet answered in input order (seqs contiguous), answers
   // and losses that arrived out of order. Resolved ones at the front move to answers/pending.
-  std::deque<Pending> lb_pending;
-  std::map<guint64, nns::edge::Message> lb_done;
-  std::set<guint64> lb_lost;
+  nns::edge::InOrder<Pending> lb;
   guint64 next_seq = 0;
   bool flushing = false;
   std::string closed_why;  // set by the node thread when the session ends
@@ -113,21 +109,6 @@ enum {
   PROP_RESEND,
   PROP_CONN_FIRST
 };
-
-GType load_balance_get_type() {
-  static GType type = 0;
-  static const GEnumValue values[] = {
-      {static_cast<gint>(nns::edge::Balance::kNone),
-       "one server at a time, the others for fail-over", "none"},
-      {static_cast<gint>(nns::edge::Balance::kRoundRobin), "each request to the next server",
-       "round-robin"},
-      {static_cast<gint>(nns::edge::Balance::kLeastOutstanding),
-       "each request to the server with the fewest requests in flight", "least-outstanding"},
-      {0, nullptr, nullptr}};
-  if (g_once_init_enter(&type))
-    g_once_init_leave(&type, g_enum_register_static("GstTensorQueryLoadBalance", values));
-  return type;
-}
 
 const nns::gst::ConnPropTable &conn_props() {
   using nns::gst::ConnProp;
@@ -291,28 +272,15 @@ std::optional<std::string> push_out_caps(GstTensorQueryClient *self, GstCaps *ou
 
 void post_info(GstTensorQueryClient *self, const std::string &text);
 
-// Load-balance mode: resolved requests at the front of lb_pending move to answers/pending
-// (where push_answers takes them); lost ones are counted.
+// Load-balance mode: resolved requests at the front of lb move to answers/pending (where
+// push_answers takes them); lost ones are counted.
 void promote_locked(ClientPriv *p) {
-  while (!p->lb_pending.empty()) {
-    const guint64 seq = p->lb_pending.front().seq;
-    if (auto it = p->lb_done.find(seq); it != p->lb_done.end()) {
-      p->answers.push_back(std::move(it->second));
-      p->pending.push_back(p->lb_pending.front());
-      p->lb_done.erase(it);
-    } else if (p->lb_lost.erase(seq)) {
-      ++p->lost_count;
-    } else {
-      break;
-    }
-    p->lb_pending.pop_front();
-  }
-}
-
-// True when `seq` is in flight and not yet resolved (a late duplicate is not).
-bool unresolved_locked(ClientPriv *p, guint64 seq) {
-  return !p->lb_pending.empty() && seq >= p->lb_pending.front().seq &&
-         seq <= p->lb_pending.back().seq && !p->lb_done.count(seq) && !p->lb_lost.count(seq);
+  p->lb.pop_ready(
+      [p](Pending &pd, nns::edge::Message &&m) {
+        p->answers.push_back(std::move(m));
+        p->pending.push_back(pd);
+      },
+      [p](Pending &) { ++p->lost_count; });
 }
 
 void make_pool(GstTensorQueryClient *self, const Settings &s, const nns::edge::NodeOptions &o) {
@@ -328,15 +296,13 @@ void make_pool(GstTensorQueryClient *self, const Settings &s, const nns::edge::N
   cb.alloc = nns::gst::gst_memory_allocator();
   cb.on_answer = [p](guint64 seq, nns::edge::Message &&m) {
     std::lock_guard<std::mutex> l(p->qlock);
-    if (!unresolved_locked(p, seq)) return;
-    p->lb_done.emplace(seq, std::move(m));
+    if (!p->lb.answer(seq, std::move(m))) return;
     promote_locked(p);
     p->qcv.notify_all();
   };
   cb.on_lost = [p](guint64 seq) {
     std::lock_guard<std::mutex> l(p->qlock);
-    if (!unresolved_locked(p, seq)) return;
-    p->lb_lost.insert(seq);
+    if (!p->lb.lose(seq)) return;
     promote_locked(p);
     p->qcv.notify_all();
   };
@@ -484,7 +450,7 @@ GstFlowReturn chain_pool(GstTensorQueryClient *self, GstBuffer *buf) {
     max_request = p->s.max_request;
     timeout = p->s.conn.timeout;
   }
-  auto in_flight = [p] { return p->lb_pending.size() + p->pending.size(); };
+  auto in_flight = [p] { return p->lb.size() + p->pending.size(); };
   if (max_request > 0 && timeout > 0) {
     std::unique_lock<std::mutex> l(p->qlock);
     p->qcv.wait_for(l, std::chrono::milliseconds(timeout), [&] {
@@ -501,9 +467,8 @@ GstFlowReturn chain_pool(GstTensorQueryClient *self, GstBuffer *buf) {
       return GST_FLOW_OK;
     }
     seq = p->next_seq++;
-    p->lb_pending.push_back({GST_BUFFER_PTS(buf), GST_BUFFER_DTS(buf), GST_BUFFER_DURATION(buf),
-                             GST_BUFFER_OFFSET(buf), GST_BUFFER_OFFSET_END(buf), Clock::now(),
-                             seq});
+    p->lb.add(seq, {GST_BUFFER_PTS(buf), GST_BUFFER_DTS(buf), GST_BUFFER_DURATION(buf),
+                    GST_BUFFER_OFFSET(buf), GST_BUFFER_OFFSET_END(buf), Clock::now(), seq});
   }
   auto view = std::make_shared<nns::gst::FrameView>(buf, p->in_tensor);
   std::shared_ptr<const nns::edge::OutFrame> frame(view, &view->frame());
@@ -512,8 +477,7 @@ GstFlowReturn chain_pool(GstTensorQueryClient *self, GstBuffer *buf) {
     std::lock_guard<std::mutex> l(p->qlock);
     if (ok) {
       ++p->sent;
-    } else if (unresolved_locked(p, seq)) {  // no server connected now
-      p->lb_lost.insert(seq);
+    } else if (p->lb.lose(seq)) {  // no server connected now
       promote_locked(p);
     }
   }
@@ -581,20 +545,18 @@ void drain(GstTensorQueryClient *self) {
       std::unique_lock<std::mutex> l(p->qlock);
       p->qcv.wait_until(l, deadline, [&] {
         return p->flushing || p->closed ||
-               (p->lb_pending.empty() && p->answers.size() >= p->pending.size());
+               (p->lb.size() == 0 && p->answers.size() >= p->pending.size());
       });
     }
     if (push_answers(self, 0) != GST_FLOW_OK) return;
     std::lock_guard<std::mutex> l(p->qlock);
-    const std::size_t left = p->pending.size() + p->lb_pending.size();
+    const std::size_t left = p->pending.size() + p->lb.size();
     if (left == 0 || p->flushing || p->closed || Clock::now() >= deadline) {
       if (left && !p->flushing) {
         p->lost_count += left;
         GST_WARNING_OBJECT(self, "EOS: %zu answer(s) never came", left);
         p->pending.clear();
-        p->lb_pending.clear();
-        p->lb_done.clear();
-        p->lb_lost.clear();
+        p->lb.clear();
       }
       return;
     }
@@ -654,9 +616,7 @@ gboolean client_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
       p->flushing = false;
       p->answers.clear();
       p->pending.clear();
-      p->lb_pending.clear();
-      p->lb_done.clear();
-      p->lb_lost.clear();
+      p->lb.clear();
       break;
     }
     default:
@@ -680,9 +640,7 @@ GstStateChangeReturn client_change_state(GstElement *element, GstStateChange t) 
     p->protocol_error = false;
     p->answers.clear();
     p->pending.clear();
-    p->lb_pending.clear();
-    p->lb_done.clear();
-    p->lb_lost.clear();
+    p->lb.clear();
     p->sent = p->received = p->dropped = p->lost_count = p->reconnects = 0;
   }
   GstStateChangeReturn ret =
@@ -698,9 +656,7 @@ GstStateChangeReturn client_change_state(GstElement *element, GstStateChange t) 
     std::lock_guard<std::mutex> l(p->qlock);
     p->answers.clear();
     p->pending.clear();
-    p->lb_pending.clear();
-    p->lb_done.clear();
-    p->lb_lost.clear();
+    p->lb.clear();
   }
   return ret;
 }
@@ -739,24 +695,7 @@ static void client_get_property(GObject *object, guint id, GValue *value, GParam
         "application/x-query-client-stats", "sent", G_TYPE_UINT64, p->sent, "received",
         G_TYPE_UINT64, p->received, "dropped", G_TYPE_UINT64, p->dropped, "lost", G_TYPE_UINT64,
         p->lost_count, "reconnects", G_TYPE_UINT64, p->reconnects, nullptr);
-    if (p->pool) {
-      GValue arr = G_VALUE_INIT;
-      gst_value_array_init(&arr, static_cast<guint>(servers.size()));
-      for (const auto &sv : servers) {
-        GValue one = G_VALUE_INIT;
-        g_value_init(&one, GST_TYPE_STRUCTURE);
-        g_value_take_boxed(
-            &one,
-            gst_structure_new("server", "name", G_TYPE_STRING, sv.name.c_str(), "live",
-                              G_TYPE_BOOLEAN, sv.live, "sent", G_TYPE_UINT64, sv.sent, "received",
-                              G_TYPE_UINT64, sv.received, "lost", G_TYPE_UINT64, sv.lost, "resent",
-                              G_TYPE_UINT64, sv.resent, "in-flight", G_TYPE_UINT64, sv.in_flight,
-                              "latency-mean-us", G_TYPE_DOUBLE, sv.latency_mean_us,
-                              "latency-max-us", G_TYPE_DOUBLE, sv.latency_max_us, nullptr));
-        gst_value_array_append_and_take_value(&arr, &one);
-      }
-      gst_structure_take_value(st, "servers", &arr);
-    }
+    if (p->pool) nns::gst::add_server_stats(st, servers);
     g_value_take_boxed(value, st);
     return;
   }
@@ -813,7 +752,7 @@ static void gst_tensor_query_client_class_init(GstTensorQueryClientClass *klass)
                         "How requests are spread over the servers (HYBRID: every server announcing "
                         "the topic; TCP: the comma-separated dest-host list): none uses one server "
                         "and fails over, round-robin, least-outstanding",
-                        load_balance_get_type(), 0, rw));
+                        nns::gst::query_load_balance_get_type(), 0, rw));
   g_object_class_install_property(
       gobject, PROP_RESEND,
       g_param_spec_boolean("resend-on-failover", "Resend on fail-over",
