@@ -181,6 +181,34 @@ std::string op_name(int code) {
                                        "SEGMENT_SUM",
                                        "BATCH_MATMUL"};
   if (code >= 0 && code < static_cast<int>(sizeof kNames / sizeof kNames[0])) return kNames[code];
+  static const char *const kMore[] = {"PLACEHOLDER_FOR_GREATER_OP_CODES",
+                                      "CUMSUM",
+                                      "CALL_ONCE",
+                                      "BROADCAST_TO",
+                                      "RFFT2D",
+                                      "CONV_3D",
+                                      "IMAG",
+                                      "REAL",
+                                      "COMPLEX_ABS",
+                                      "HASHTABLE",
+                                      "HASHTABLE_FIND",
+                                      "HASHTABLE_IMPORT",
+                                      "HASHTABLE_SIZE",
+                                      "REDUCE_ALL",
+                                      "CONV_3D_TRANSPOSE",
+                                      "VAR_HANDLE",
+                                      "READ_VARIABLE",
+                                      "ASSIGN_VARIABLE",
+                                      "BROADCAST_ARGS",
+                                      "RANDOM_STANDARD_NORMAL",
+                                      "BUCKETIZE",
+                                      "RANDOM_UNIFORM",
+                                      "MULTINOMIAL",
+                                      "GELU",
+                                      "DYNAMIC_UPDATE_SLICE",
+                                      "RELU_0_TO_1"};
+  int k = code - 127;
+  if (k >= 0 && k < static_cast<int>(sizeof kMore / sizeof kMore[0])) return kMore[k];
   return "BUILTIN_" + std::to_string(code);
 }
 
@@ -281,6 +309,10 @@ Model parse_model(std::vector<uint8_t> bytes, const std::string &path) {
             fail(path, fp + ".quantization.scale",
                  "scale " + std::to_string(s) + " is not a positive finite number");
         if (t.q.scale.size() > 1) {
+          // Converters copy the weights' quantized_dimension (3) onto 1-D per-channel biases.
+          if (t.shape.size() == 1 && t.q.axis != 0 &&
+              static_cast<int64_t>(t.q.scale.size()) == t.shape[0])
+            t.q.axis = 0;
           if (t.q.axis < 0 || t.q.axis >= static_cast<int>(t.shape.size()))
             fail(path, fp + ".quantization.quantized_dimension",
                  std::to_string(t.q.axis) + " is outside shape " + shape_str(t.shape));

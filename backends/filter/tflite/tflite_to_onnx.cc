@@ -487,9 +487,23 @@ void Translator::conv(const Op &op, bool depthwise) {
   Strs in{xi, wi};
   if (b >= 0) in.push_back(flt(b));
   std::string y = fresh();
-  g_.node("Conv", in, {y},
-          {pad_attr(padding), attr_ints("strides", {sh, sw}), attr_ints("dilations", {dh, dw}),
-           attr_int("group", group), attr_ints("kernel_shape", {T(w).shape[1], T(w).shape[2]})});
+  std::vector<onnx::Msg> at{attr_ints("strides", {sh, sw}), attr_ints("dilations", {dh, dw}),
+                            attr_int("group", group),
+                            attr_ints("kernel_shape", {T(w).shape[1], T(w).shape[2]})};
+  if (padding == 0 && (dh > 1 || dw > 1)) {
+    // ORT has no SAME auto_pad with dilation: explicit pads from the declared input size.
+    auto pads = [](int64_t in, int64_t k, int64_t s, int64_t d) {
+      int64_t out = (in + s - 1) / s, ke = (k - 1) * d + 1;
+      int64_t total = std::max<int64_t>((out - 1) * s + ke - in, 0);
+      return std::pair<int64_t, int64_t>{total / 2, total - total / 2};
+    };
+    auto [t0, t1] = pads(T(x).shape[1], T(w).shape[1], sh, dh);
+    auto [l0, l1] = pads(T(x).shape[2], T(w).shape[2], sw, dw);
+    at.push_back(attr_ints("pads", {t0, l0, t1, l1}));
+  } else {
+    at.push_back(pad_attr(padding));
+  }
+  g_.node("Conv", in, {y}, at);
   store(out, nhwc(act(y, fused, op)));
 }
 
@@ -1056,6 +1070,25 @@ void Translator::translate_op(const Op &op, Translation &tr) {
       int ot = onnx_type(T(out0()).type);
       if (!ot) unsupported(op, std::string("cast to ") + type_name(T(out0()).type));
       return store_raw(out0(), unary("Cast", raw(in0()), {attr_int("to", ot)}));
+    }
+    case B::BuiltinOperator_BROADCAST_ARGS: {  // broadcast shape of two shape vectors
+      need(op, 2, 1);
+      auto zeros = [&](int t) {
+        return unary("ConstantOfShape", unary("Cast", raw(t), {attr_int("to", onnx::kInt64)}));
+      };
+      std::string y = unary("Shape", binary("Add", zeros(op.inputs[0]), zeros(op.inputs[1])));
+      return store_raw(out0(), unary("Cast", y, {attr_int("to", onnx_type(T(out0()).type))}));
+    }
+    case B::BuiltinOperator_BROADCAST_TO: {
+      need(op, 2, 1);
+      std::string shape = unary("Cast", raw(op.inputs[1]), {attr_int("to", onnx::kInt64)});
+      return movement([&](const std::string &x) { return binary("Expand", x, shape); });
+    }
+    case B::BuiltinOperator_SHAPE: {
+      need(op, 1, 1);
+      std::string y = unary("Shape", raw(in0()));
+      if (T(out0()).type == kInt64) return store_raw(out0(), y);
+      return store_raw(out0(), unary("Cast", y, {attr_int("to", onnx_type(T(out0()).type))}));
     }
     case B::BuiltinOperator_QUANTIZE:
       need(op, 1, 1);
