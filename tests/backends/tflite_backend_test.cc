@@ -261,6 +261,28 @@ TEST(TfliteBackend, AllSharedModelsRun) {
   }
 }
 
+// Through a pipeline: every tflite alias and framework=auto reach this back end first.
+TEST(TfliteBackend, PipelineOrangeWithEveryAlias) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::string dir = make_temp_dir();
+  for (const char *fw : {"tensorflow-lite", "tflite", "auto"}) {
+    SCOPED_TRACE(fw);
+    std::string out = dir + "/" + fw + ".bin";
+    RunResult r =
+        run_pipeline("filesrc location=" + shared_models_dir() +
+                     "/data/orange.raw blocksize=-1 ! application/octet-stream ! tensor_converter "
+                     "input-dim=3:224:224:1 input-type=uint8 ! tensor_filter framework=" +
+                     fw + " model=" + upstream("mobilenet_v2_1.0_224_quant.tflite") +
+                     " ! filesink location=" + out);
+    ASSERT_TRUE(r.eos) << r.error_text;
+    auto s = read_file(out);
+    ASSERT_EQ(s.size(), 1001u);
+    EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // ---- bad files: clear errors naming the file and the field, never a crash ----
 
 std::vector<uint8_t> small_model(uint32_t buffer_of_const, std::vector<int32_t> const_shape) {

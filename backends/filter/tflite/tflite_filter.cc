@@ -343,6 +343,8 @@ class TfliteFilter final : public FilterBackend {
         std::fclose(f);
       }
     }
+    if (const char *opt = std::getenv("NNS_TFLITE_DUMP_OPTIMIZED"))
+      so.SetOptimizedModelFilePath(opt);
     try {
       pl->session = Ort::Session(ort_env(), pl->tr.onnx.data(), pl->tr.onnx.size(), so);
     } catch (const Ort::Exception &e) {
