@@ -296,7 +296,11 @@ Model parse_model(std::vector<uint8_t> bytes, const std::string &path) {
     if (ft->sparsity()) fail(path, fp + ".sparsity", "sparse tensors are not supported");
     if (const auto *q = ft->quantization()) {
       if (q->scale()) t.q.scale.assign(q->scale()->begin(), q->scale()->end());
-      if (q->zero_point()) t.q.zero_point.assign(q->zero_point()->begin(), q->zero_point()->end());
+      if (const auto *zp = q->zero_point()) {
+        // 8-byte elements: the verifier only guarantees 4-byte alignment of a vector, so copy.
+        t.q.zero_point.resize(zp->size());
+        if (zp->size()) std::memcpy(t.q.zero_point.data(), zp->Data(), zp->size() * 8);
+      }
       t.q.axis = q->quantized_dimension();
       if (!t.q.scale.empty()) {
         if (t.q.zero_point.empty()) t.q.zero_point.assign(t.q.scale.size(), 0);
