@@ -283,6 +283,47 @@ TEST(TfliteBackend, PipelineOrangeWithEveryAlias) {
   std::filesystem::remove_all(dir);
 }
 
+// COCO SSD ending in the custom op TFLite_Detection_PostProcess: orange (resized to 300x300) is
+// detection #0, class 54, as on Arm NN CpuRef (score 0.75, box [0.205, 0.196, 0.914, 0.905]).
+// Skipped when the back end was built without src/core/detection_postprocess.
+TEST(TfliteBackend, SsdPostProcessFindsOrange) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::string model = tfl("coco_ssd_mobilenet_quant.tflite");
+  if (!std::filesystem::exists(model)) GTEST_SKIP() << model << " missing";
+  {
+    Props p;
+    p.models = {model};
+    Instance inst(lib().api(), p);
+    if (inst.rc() != 0 && inst.error().find("detection kernel") != std::string::npos)
+      GTEST_SKIP() << inst.error();
+    ASSERT_EQ(inst.rc(), 0) << inst.error();
+    nns_tensors_desc in, out;
+    ASSERT_EQ(inst.model_info(in, out), 0);
+    ASSERT_EQ(out.num_tensors, 4u);
+    EXPECT_EQ(out.tensors[0].dims[0], 4u);
+    EXPECT_EQ(out.tensors[0].dims[1], 10u);
+    EXPECT_EQ(out.tensors[3].dims[0], 1u);
+  }
+  std::string dir = make_temp_dir(), out = dir + "/ssd.bin";
+  RunResult r = run_pipeline("filesrc location=" + shared_models_dir() +
+                             "/data/orange.png ! pngdec ! videoconvert ! videoscale ! "
+                             "video/x-raw,format=RGB,width=300,height=300 ! tensor_converter ! "
+                             "tensor_filter framework=tflite model=" +
+                             model + " ! filesink location=" + out);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto bytes = read_file(out);
+  ASSERT_EQ(bytes.size(), 61u * 4);
+  std::vector<float> f(61);
+  std::memcpy(f.data(), bytes.data(), bytes.size());
+  EXPECT_EQ(f[40], 54.f);  // classes start after 10 boxes
+  EXPECT_NEAR(f[50], 0.75f, 0.02f);
+  const float want[4] = {0.205f, 0.196f, 0.914f, 0.905f};
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(f[k], want[k], 0.01f) << k;
+  EXPECT_EQ(f[60], 10.f);
+  std::filesystem::remove_all(dir);
+}
+
 // ---- bad files: clear errors naming the file and the field, never a crash ----
 
 std::vector<uint8_t> small_model(uint32_t buffer_of_const, std::vector<int32_t> const_shape) {

@@ -431,7 +431,7 @@ class TfliteFilter final : public FilterBackend {
         int k = 0;
         for (std::size_t j = 0; j < post.outputs.size(); ++j)
           if (pl.model->outputs[i] == post.outputs[j]) k = static_cast<int>(j);
-        int64_t md = post.max_detections;
+        int64_t md = post.slots();
         p.shape = k == 0   ? std::vector<int64_t>{1, md, 4}
                   : k == 3 ? std::vector<int64_t>{1}
                            : std::vector<int64_t>{1, md};
@@ -524,12 +524,10 @@ class TfliteFilter final : public FilterBackend {
     for (std::size_t i = 0; i < pl.out.size(); ++i)
       for (std::size_t j = 0; j < 4; ++j)
         if (pl.model->outputs[i] == p.outputs[j]) dst[j] = static_cast<float *>(out[i].data);
-    thread_local std::vector<float> scratch;
+    thread_local std::vector<float> scratch;  // outputs the model does not expose
+    scratch.resize(static_cast<std::size_t>(p.slots()) * 4);
     for (float *&d : dst)
-      if (!d) {  // an output the model does not expose
-        scratch.resize(static_cast<std::size_t>(p.max_detections) * 4);
-        d = scratch.data();
-      }
+      if (!d) d = scratch.data();
     detection_postprocess(o, boxes, scores, p.anchors.data(), p.num_anchors, dst[0], dst[1], dst[2],
                           dst[3]);
 #else

@@ -678,7 +678,8 @@ void Translator::detection_post(const Op &op, Translation &tr) {
     if (!r.IsNull()) p.use_regular_nms = r.AsBool();
   }
   if (p.max_detections <= 0 || p.max_detections > 10000 || p.num_classes <= 0 ||
-      p.num_classes > 100000 || p.max_classes_per_detection <= 0)
+      p.num_classes > 100000 || p.max_classes_per_detection <= 0 ||
+      p.max_classes_per_detection > p.num_classes || p.slots() > 100000)
     fail(op, "implausible options (max_detections " + std::to_string(p.max_detections) +
                  ", num_classes " + std::to_string(p.num_classes) + ")");
   int anchors = op.inputs[2];

@@ -30,6 +30,11 @@ struct DetectionPost {
   int num_anchors = 0;
   std::vector<int> outputs;  // its 4 TFLite output tensors
   int op_index = -1;
+  // Output rows: max_detections x max_classes_per_detection (fast NMS, TFLite's output shape),
+  // max_detections (regular NMS).
+  int slots() const {
+    return use_regular_nms ? max_detections : max_detections * max_classes_per_detection;
+  }
 };
 
 struct Translation {
