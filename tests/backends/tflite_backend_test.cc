@@ -283,6 +283,37 @@ TEST(TfliteBackend, PipelineOrangeWithEveryAlias) {
   std::filesystem::remove_all(dir);
 }
 
+// hello_world (float and int8, FULLY_CONNECTED only): y ~ sin(x) (the models' training error is
+// ~0.1 at worst); the int8 twin gives the float model's answer within a few of its steps.
+TEST(TfliteBackend, HelloWorldSine) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::string fpath = tfl("hello_world_float.tflite"), qpath = tfl("hello_world_int8.tflite");
+  if (!std::filesystem::exists(fpath)) GTEST_SKIP() << fpath << " missing";
+  tfl::Model qm = tfl::load_model(qpath);
+  const tfl::Quant &qi = qm.tensors[qm.inputs[0]].q, &qo = qm.tensors[qm.outputs[0]].q;
+  ASSERT_TRUE(qi.present() && qo.present());
+  Props pf, pq;
+  pf.models = {fpath};
+  pq.models = {qpath};
+  Instance f(lib().api(), pf), q(lib().api(), pq);
+  ASSERT_EQ(f.rc(), 0) << f.error();
+  ASSERT_EQ(q.rc(), 0) << q.error();
+  for (float x = 0.f; x < 6.2f; x += 0.5f) {
+    float y = 0;
+    std::vector<GstTensorMemory> ins{{&x, 4}}, outs{{&y, 4}};
+    ASSERT_EQ(f.invoke(ins, outs), 0) << f.error();
+    EXPECT_NEAR(y, std::sin(x), 0.15f) << x;
+    int8_t xq = static_cast<int8_t>(std::clamp(
+        std::round(x / qi.scale[0]) + static_cast<float>(qi.zero_point[0]), -128.f, 127.f));
+    int8_t yq = 0;
+    std::vector<GstTensorMemory> qins{{&xq, 1}}, qouts{{&yq, 1}};
+    ASSERT_EQ(q.invoke(qins, qouts), 0) << q.error();
+    float yd = qo.scale[0] * (static_cast<float>(yq) - static_cast<float>(qo.zero_point[0]));
+    EXPECT_NEAR(yd, std::sin(x), 0.2f) << x;
+  }
+}
+
 // COCO SSD ending in the custom op TFLite_Detection_PostProcess: orange (resized to 300x300) is
 // detection #0, class 54, as on Arm NN CpuRef (score 0.75, box [0.205, 0.196, 0.914, 0.905]).
 // Skipped when the back end was built without src/core/detection_postprocess.
