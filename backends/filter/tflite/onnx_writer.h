@@ -10,23 +10,9 @@
 #include <string_view>
 #include <vector>
 
-namespace nns::onnx {
+#include "../common/onnx_types.h"
 
-// ONNX TensorProto.DataType values.
-enum DataType : int {
-  kFloat = 1,
-  kUInt8 = 2,
-  kInt8 = 3,
-  kUInt16 = 4,
-  kInt16 = 5,
-  kInt32 = 6,
-  kInt64 = 7,
-  kBool = 9,
-  kFloat16 = 10,
-  kDouble = 11,
-  kUInt32 = 12,
-  kUInt64 = 13,
-};
+namespace nns::onnx {
 
 // Protobuf message under construction.
 class Msg {
