@@ -224,6 +224,32 @@ TEST(TfliteBackend, OtherClassifiersFindOrange) {
   EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
 }
 
+// MobileNet v1 0.25/128 and 0.75/192 (uint8) on orange.png scaled by videoscale: orange (951),
+// as Arm NN CpuRef gives for the same networks (../shared/models/tflite/README.md).
+TEST(TfliteBackend, SmallMobilenetV1FindOrange) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::string dir = make_temp_dir();
+  for (auto [name, size] : {std::pair{"mobilenet_v1_0.25_128_quant.tflite", 128},
+                            std::pair{"mobilenet_v1_0.75_192_quant.tflite", 192}}) {
+    SCOPED_TRACE(name);
+    if (!std::filesystem::exists(tfl(name))) GTEST_SKIP() << tfl(name) << " missing";
+    std::string out = dir + "/scores.bin", sz = std::to_string(size);
+    RunResult r =
+        run_pipeline("filesrc location=" + shared_models_dir() +
+                     "/data/orange.png ! pngdec ! videoconvert ! videoscale ! "
+                     "video/x-raw,format=RGB,width=" +
+                     sz + ",height=" + sz +
+                     " ! tensor_converter ! tensor_filter framework=tflite model=" + tfl(name) +
+                     " ! filesink location=" + out);
+    ASSERT_TRUE(r.eos) << r.error_text;
+    auto s = read_file(out);
+    ASSERT_EQ(s.size(), 1001u);
+    EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // Every model of ../shared/models/tflite opens and runs one frame of zeros (the detection
 // model needs the TFLite_Detection_PostProcess kernel, see docs/backends/tflite.md).
 TEST(TfliteBackend, AllSharedModelsRun) {
