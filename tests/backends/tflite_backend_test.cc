@@ -250,6 +250,33 @@ TEST(TfliteBackend, SmallMobilenetV1FindOrange) {
   std::filesystem::remove_all(dir);
 }
 
+// The 5-D two-input sample (SHAPE, BROADCAST_ARGS, BROADCAST_TO, ADD; Arm NN cannot parse it):
+// the sum of its two float32 [4,4,4,4,4] inputs.
+TEST(TfliteBackend, FiveDimensionalSampleAdds) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  Props p;
+  p.models = {upstream("sample_4x4x4x4x4_two_input_one_output.tflite")};
+  Instance inst(lib().api(), p);
+  ASSERT_EQ(inst.rc(), 0) << inst.error();
+  nns_tensors_desc in, out;
+  ASSERT_EQ(inst.model_info(in, out), 0);
+  ASSERT_EQ(in.num_tensors, 2u);
+  EXPECT_EQ(desc_string(in.tensors[0], false).rfind("float32 4:4:4:4:4", 0), 0u);
+  ASSERT_EQ(desc_bytes(out.tensors[0]), desc_bytes(in.tensors[0]));
+  std::vector<std::vector<float>> x(2, std::vector<float>(1024));
+  std::vector<GstTensorMemory> ins;
+  for (int k = 0; k < 2; ++k) {
+    for (std::size_t i = 0; i < 1024; ++i)
+      x[k][i] = 0.25f * static_cast<float>((i * (k + 3)) % 17) - 1.f;
+    ins.push_back({x[k].data(), 4096});
+  }
+  std::vector<float> y(1024);
+  std::vector<GstTensorMemory> outs{{y.data(), 4096}};
+  ASSERT_EQ(inst.invoke(ins, outs), 0) << inst.error();
+  for (std::size_t i = 0; i < 1024; ++i) ASSERT_FLOAT_EQ(y[i], x[0][i] + x[1][i]) << i;
+}
+
 // Every model of ../shared/models/tflite opens and runs one frame of zeros (the detection
 // model needs the TFLite_Detection_PostProcess kernel, see docs/backends/tflite.md).
 TEST(TfliteBackend, AllSharedModelsRun) {
