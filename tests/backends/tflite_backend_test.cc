@@ -44,6 +44,28 @@ std::vector<uint8_t> run_once(Instance &inst, const std::vector<uint8_t> &input,
   return out;
 }
 
+// Runs `desc` (a pipeline up to its last element) into a filesink and returns the bytes written.
+std::vector<uint8_t> pipeline_bytes(const std::string &desc) {
+  std::string dir = make_temp_dir(), out = dir + "/out.bin";
+  RunResult r = run_pipeline(desc + " ! filesink location=" + out);
+  EXPECT_TRUE(r.eos) << r.error_text;
+  auto bytes = read_file(out);
+  std::filesystem::remove_all(dir);
+  return bytes;
+}
+
+// orange.png scaled to size x size RGB (videoscale), as a pipeline head.
+std::string orange_png(int size) {
+  std::string sz = std::to_string(size);
+  return "filesrc location=" + shared_models_dir() +
+         "/data/orange.png ! pngdec ! videoconvert ! videoscale ! video/x-raw,format=RGB,width=" +
+         sz + ",height=" + sz;
+}
+
+long argmax(const std::vector<uint8_t> &s) {
+  return std::max_element(s.begin(), s.end()) - s.begin();
+}
+
 TEST(TfliteBackend, Table) {
   REQUIRE_TFLITE();
   const nns_filter_backend_i *api = lib().api();
@@ -170,7 +192,7 @@ TEST(TfliteBackend, MobilenetV2QuantMatchesArmnn) {
   Instance inst(lib().api(), p);
   ASSERT_EQ(inst.rc(), 0) << inst.error();
   auto ours = run_once(inst, image, 1001);
-  EXPECT_EQ(std::max_element(ours.begin(), ours.end()) - ours.begin(), 951);
+  EXPECT_EQ(argmax(ours), 951);
   const BackendLib &armnn = backend_lib("armnn");
   if (!armnn.ok()) GTEST_SKIP() << "armnn back end absent: no CpuRef comparison";
   Props pa;
@@ -212,7 +234,7 @@ TEST(TfliteBackend, OtherClassifiersFindOrange) {
     Instance inst(lib().api(), p);
     ASSERT_EQ(inst.rc(), 0) << inst.error();
     auto s = run_once(inst, image, 1001);
-    EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
+    EXPECT_EQ(argmax(s), 951);
   }
   Props pe, ph;
   pe.models = {tfl("mobilenet_v1_1.0_224_quant_embedding_extractor.tflite")};
@@ -222,7 +244,7 @@ TEST(TfliteBackend, OtherClassifiersFindOrange) {
   ASSERT_EQ(h.rc(), 0) << h.error();
   auto emb = run_once(e, image, 1024);
   auto s = run_once(h, emb, 1001);
-  EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
+  EXPECT_EQ(argmax(s), 951);
 }
 
 // MobileNet v1 0.25/128 and 0.75/192 (uint8) on orange.png scaled by videoscale: orange (951),
@@ -230,25 +252,16 @@ TEST(TfliteBackend, OtherClassifiersFindOrange) {
 TEST(TfliteBackend, SmallMobilenetV1FindOrange) {
   REQUIRE_TFLITE();
   NNS_REQUIRE_SHARED_MODELS();
-  std::string dir = make_temp_dir();
   for (auto [name, size] : {std::pair{"mobilenet_v1_0.25_128_quant.tflite", 128},
                             std::pair{"mobilenet_v1_0.75_192_quant.tflite", 192}}) {
     SCOPED_TRACE(name);
     if (!std::filesystem::exists(tfl(name))) GTEST_SKIP() << tfl(name) << " missing";
-    std::string out = dir + "/scores.bin", sz = std::to_string(size);
-    RunResult r =
-        run_pipeline("filesrc location=" + shared_models_dir() +
-                     "/data/orange.png ! pngdec ! videoconvert ! videoscale ! "
-                     "video/x-raw,format=RGB,width=" +
-                     sz + ",height=" + sz +
-                     " ! tensor_converter ! tensor_filter framework=tflite model=" + tfl(name) +
-                     " ! filesink location=" + out);
-    ASSERT_TRUE(r.eos) << r.error_text;
-    auto s = read_file(out);
+    auto s =
+        pipeline_bytes(orange_png(size) +
+                       " ! tensor_converter ! tensor_filter framework=tflite model=" + tfl(name));
     ASSERT_EQ(s.size(), 1001u);
-    EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
+    EXPECT_EQ(argmax(s), 951);
   }
-  std::filesystem::remove_all(dir);
 }
 
 // The 5-D two-input sample (SHAPE, BROADCAST_ARGS, BROADCAST_TO, ADD; Arm NN cannot parse it):
@@ -320,22 +333,17 @@ TEST(TfliteBackend, AllSharedModelsRun) {
 TEST(TfliteBackend, PipelineOrangeWithEveryAlias) {
   REQUIRE_TFLITE();
   NNS_REQUIRE_SHARED_MODELS();
-  std::string dir = make_temp_dir();
   for (const char *fw : {"tensorflow-lite", "tflite", "auto"}) {
     SCOPED_TRACE(fw);
-    std::string out = dir + "/" + fw + ".bin";
-    RunResult r =
-        run_pipeline("filesrc location=" + shared_models_dir() +
-                     "/data/orange.raw blocksize=-1 ! application/octet-stream ! tensor_converter "
-                     "input-dim=3:224:224:1 input-type=uint8 ! tensor_filter framework=" +
-                     fw + " model=" + upstream("mobilenet_v2_1.0_224_quant.tflite") +
-                     " ! filesink location=" + out);
-    ASSERT_TRUE(r.eos) << r.error_text;
-    auto s = read_file(out);
+    auto s =
+        pipeline_bytes("filesrc location=" + shared_models_dir() +
+                       "/data/orange.raw blocksize=-1 ! application/octet-stream ! "
+                       "tensor_converter input-dim=3:224:224:1 input-type=uint8 ! "
+                       "tensor_filter framework=" +
+                       std::string(fw) + " model=" + upstream("mobilenet_v2_1.0_224_quant.tflite"));
     ASSERT_EQ(s.size(), 1001u);
-    EXPECT_EQ(std::max_element(s.begin(), s.end()) - s.begin(), 951);
+    EXPECT_EQ(argmax(s), 951);
   }
-  std::filesystem::remove_all(dir);
 }
 
 // hello_world (float and int8, FULLY_CONNECTED only): y ~ sin(x) (the models' training error is
@@ -446,14 +454,8 @@ TEST(TfliteBackend, SsdPostProcessFindsOrange) {
     EXPECT_EQ(out.tensors[0].dims[1], 10u);
     EXPECT_EQ(out.tensors[3].dims[0], 1u);
   }
-  std::string dir = make_temp_dir(), out = dir + "/ssd.bin";
-  RunResult r = run_pipeline("filesrc location=" + shared_models_dir() +
-                             "/data/orange.png ! pngdec ! videoconvert ! videoscale ! "
-                             "video/x-raw,format=RGB,width=300,height=300 ! tensor_converter ! "
-                             "tensor_filter framework=tflite model=" +
-                             model + " ! filesink location=" + out);
-  ASSERT_TRUE(r.eos) << r.error_text;
-  auto bytes = read_file(out);
+  auto bytes = pipeline_bytes(
+      orange_png(300) + " ! tensor_converter ! tensor_filter framework=tflite model=" + model);
   ASSERT_EQ(bytes.size(), 61u * 4);
   std::vector<float> f(61);
   std::memcpy(f.data(), bytes.data(), bytes.size());
@@ -462,7 +464,6 @@ TEST(TfliteBackend, SsdPostProcessFindsOrange) {
   const float want[4] = {0.205f, 0.196f, 0.914f, 0.905f};
   for (int k = 0; k < 4; ++k) EXPECT_NEAR(f[k], want[k], 0.01f) << k;
   EXPECT_EQ(f[60], 10.f);
-  std::filesystem::remove_all(dir);
 }
 
 // ---- bad files: clear errors naming the file and the field, never a crash ----
