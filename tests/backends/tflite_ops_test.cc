@@ -534,6 +534,20 @@ TEST(TfliteOps, TransposeConvSame) {
   expect_near(values_of<float>(run(t.finish({xi}, {yi}), {bytes_of(x)}).at(0)), want);
 }
 
+TEST(TfliteOps, MissingOptionalInputIsAnError) {
+  REQUIRE_TFLITE();
+  TfliteBuilder t;
+  int xi = t.tensor("x", TT::TensorType_FLOAT32, {1, 2});
+  int yi = t.tensor("y", TT::TensorType_FLOAT32, {1, 4});
+  t.op(tflite::BuiltinOperator_CONCATENATION, {xi, -1}, {yi},
+       tflite::BuiltinOptions_ConcatenationOptions,
+       tflite::CreateConcatenationOptions(t.fb(), 1).Union());
+  std::string err;
+  EXPECT_TRUE(run(t.finish({xi}, {yi}), {bytes_of(ramp(2))}, &err).empty());
+  EXPECT_NE(err.find("operator 0"), std::string::npos) << err;
+  EXPECT_NE(err.find("missing"), std::string::npos) << err;
+}
+
 TEST(TfliteOps, UnsupportedOpNamesOpIndexModelAndArmnn) {
   REQUIRE_TFLITE();
   TfliteBuilder t;

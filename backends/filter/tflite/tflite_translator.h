@@ -112,7 +112,14 @@ class Translator {
   static std::string name(int t) { return "t" + std::to_string(t); }
   std::string fresh() { return "v" + std::to_string(tmp_++); }
 
-  const Tensor &T(int t) const { return m_.tensors[t]; }
+  // Every tensor access goes through here: optional inputs (-1) used where an op needs them
+  // are an error, never an out-of-range read.
+  const Tensor &T(int t) const {
+    if (t < 0 || static_cast<std::size_t>(t) >= m_.tensors.size())
+      throw ModelError(m_.path + ": operator " + std::to_string(op_index_) +
+                       ": a required input tensor is missing (index " + std::to_string(t) + ")");
+    return m_.tensors[t];
+  }
   int rank(int t) const { return static_cast<int>(T(t).shape.size()); }
   bool is_quant(int t) const {
     const Tensor &x = T(t);
@@ -222,6 +229,7 @@ class Translator {
 
   // The tensor's value in its stored type (quantized stays quantized).
   std::string raw(int t) {
+    (void)T(t);  // range check
     if (!emitted_[t]) {
       if (!is_const(t))
         throw ModelError(m_.path + ": tensor " + std::to_string(t) + " ('" + T(t).name +
