@@ -432,6 +432,36 @@ TEST(TfliteBackend, BlazeFaceMatchesTheOnnxDemo) {
   std::filesystem::remove_all(dir);
 }
 
+// MoveNet lightning (int8, CAST/GATHER_ND/FLOOR_DIV/PACK/UNPACK tail; Arm NN cannot parse it) on
+// the astronaut photo: the face where BlazeFace finds it (x ~225, y ~130 in the 512x512 photo),
+// eyes above the nose and on either side, shoulders below.
+TEST(TfliteBackend, MoveNetPoseIsPlausible) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::string model = tfl("movenet_single_pose_lightning_ptq.tflite");
+  std::string photo = std::string(NNS_SOURCE_DIR) + "/third_party/demo/astronaut.png";
+  if (!std::filesystem::exists(model) || !std::filesystem::exists(photo))
+    GTEST_SKIP() << "needs " << model << " and " << photo;
+  auto bytes = pipeline_bytes("filesrc location=" + photo +
+                              " ! pngdec ! videoconvert ! videoscale ! "
+                              "video/x-raw,format=RGB,width=192,height=192 ! tensor_converter ! "
+                              "tensor_filter framework=tflite model=" +
+                              model);
+  ASSERT_EQ(bytes.size(), 17u * 3 * 4);
+  std::vector<float> k(51);
+  std::memcpy(k.data(), bytes.data(), bytes.size());
+  auto y = [&](int i) { return k[3 * i] * 512; };
+  auto x = [&](int i) { return k[3 * i + 1] * 512; };
+  EXPECT_NEAR(x(0), 225, 30);  // nose
+  EXPECT_NEAR(y(0), 130, 30);
+  EXPECT_LT(y(1), y(0));  // eyes above the nose
+  EXPECT_LT(y(2), y(0));
+  EXPECT_GT(x(1), x(2));  // left eye on the image's right
+  EXPECT_GT(k[3 * 1 + 2], 0.5f);
+  EXPECT_GT(y(5), y(0) + 50);  // shoulders well below
+  EXPECT_GT(y(6), y(0) + 50);
+}
+
 // COCO SSD ending in the custom op TFLite_Detection_PostProcess: orange (resized to 300x300) is
 // detection #0, class 54, as on Arm NN CpuRef (score 0.75, box [0.205, 0.196, 0.914, 0.905]).
 // Skipped when the back end was built without src/core/detection_postprocess.
