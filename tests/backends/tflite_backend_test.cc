@@ -291,6 +291,37 @@ TEST(TfliteBackend, FiveDimensionalSampleAdds) {
   for (std::size_t i = 0; i < 1024; ++i) ASSERT_FLOAT_EQ(y[i], x[0][i] + x[1][i]) << i;
 }
 
+// Small quantized models Arm NN CpuRef (exact) runs quickly: the same deterministic input gives
+// outputs within one quantization step.
+TEST(TfliteBackend, SmallQuantizedModelsMatchArmnn) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  const BackendLib &armnn = backend_lib("armnn");
+  if (!armnn.ok()) GTEST_SKIP() << "armnn back end absent";
+  for (const char *name : {"micro_speech_quantized.tflite", "mobilenet_v1_0.25_128_quant.tflite",
+                           "hello_world_int8.tflite"}) {
+    SCOPED_TRACE(name);
+    if (!std::filesystem::exists(tfl(name))) continue;
+    Props p;
+    p.models = {tfl(name)};
+    Instance ours(lib().api(), p), ref(armnn.api(), p);
+    ASSERT_EQ(ours.rc(), 0) << ours.error();
+    ASSERT_EQ(ref.rc(), 0) << ref.error();
+    nns_tensors_desc in, out;
+    ASSERT_EQ(ours.model_info(in, out), 0);
+    std::vector<uint8_t> x(desc_bytes(in.tensors[0]));
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<uint8_t>((i * 37 + 11) % 251);
+    auto a = run_once(ours, x, desc_bytes(out.tensors[0]));
+    auto b = run_once(ref, x, desc_bytes(out.tensors[0]));
+    bool is_signed = out.tensors[0].type == _NNS_INT8;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      int va = is_signed ? static_cast<int8_t>(a[i]) : a[i];
+      int vb = is_signed ? static_cast<int8_t>(b[i]) : b[i];
+      EXPECT_LE(std::abs(va - vb), 1) << "output " << i;
+    }
+  }
+}
+
 // Every model of ../shared/models/tflite opens and runs one frame of zeros (the detection
 // model needs the TFLite_Detection_PostProcess kernel, see docs/backends/tflite.md).
 TEST(TfliteBackend, AllSharedModelsRun) {
