@@ -18,7 +18,7 @@ JOBS=${NNS_JOBS:-2}
 CLANG=${CXX:-clang++}
 [[ $CLANG == *clang++* ]] || CLANG=clang++
 ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame mqtt_message
-  edge_data)
+  edge_data tflite_model)
 TARGETS=("${@:-${ALL[@]}}")
 [[ $# -gt 0 ]] || TARGETS=("${ALL[@]}")
 
@@ -39,6 +39,12 @@ cmake --build "$DIR" -j"$JOBS" >"$DIR/build.log" 2>&1 || {
 # Seeds: regenerated every run (cheap), kept apart from what the fuzzer adds.
 rm -rf "$DIR/seeds"
 "$DIR/nns_fuzz_corpus" "$DIR/seeds" >/dev/null
+# tflite_model: the small real models of ../shared/models when present (never copied into git).
+mkdir -p "$DIR/seeds/tflite_model"
+for f in "$ROOT"/../shared/models/upstream/models/{add,simple_32_in_32_out}.tflite \
+  "$ROOT"/../shared/models/tflite/{hello_world_float,hello_world_int8,micro_speech_quantized}.tflite; do
+  if [[ -f $f ]]; then cp "$f" "$DIR/seeds/tflite_model/"; fi
+done
 # Regression inputs of fixed bugs (tiny, in git).
 for t in "${ALL[@]}"; do
   if [[ -d $ROOT/fuzz/regressions/$t ]]; then

@@ -580,7 +580,8 @@ TEST(MlCommonErrors, SingleArgumentChecks) {
   NNS_custom_easy_unregister("mlc_args");
 }
 
-// A .tflite model on Arm NN (framework tensorflow-lite resolves to armnn here): Arm NN 20.08
+// A .tflite model on Arm NN (ML_NNFW_TYPE_ARMNN; tensorflow-lite resolves to our tflite back end,
+// which resizes, see ml_single_dynamic.cc): Arm NN 20.08
 // networks have fixed shapes, so another input shape is ML_ERROR_NOT_SUPPORTED with a message
 // that says so, and the handle keeps working with the model's own shape.
 TEST(MlSingleArmnn, FixedShapesOnlyAndSaysSo) {
@@ -590,8 +591,7 @@ TEST(MlSingleArmnn, FixedShapesOnlyAndSaysSo) {
     GTEST_SKIP() << "the armnn back end is not built";
   if (!std::filesystem::exists(model)) GTEST_SKIP() << model << " missing (nns_test_models)";
   ml_single_h h = nullptr;
-  ASSERT_EQ(ml_single_open(&h, model.c_str(), nullptr, nullptr, ML_NNFW_TYPE_TENSORFLOW_LITE,
-                           ML_NNFW_HW_ANY),
+  ASSERT_EQ(ml_single_open(&h, model.c_str(), nullptr, nullptr, ML_NNFW_TYPE_ARMNN, ML_NNFW_HW_ANY),
             ML_ERROR_NONE)
       << ml_error();
   ml_tensors_info_h in = nullptr;
