@@ -1,13 +1,10 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 # The TensorFlow Lite demos (examples/tflite_classification, object_detection, tflite_face,
-# pose) as tests. They use tensor_filter framework=tensorflow-lite: until the TFLite engine back
-# end is built that is Arm NN, which runs the classifier (~3 s) and the SSD (~7 s per photo, CPU
-# time: label "slow") but cannot parse BlazeFace (fp16 weights through DEQUANTIZE) or MoveNet
-# (CAST): those two tests are disabled unless NNS_DEMOS_TFLITE_ENGINE is ON (turn it on, or make
-# it the default, once the engine is merged). Exit 77 (../shared, a photo, or a back end that
-# opens the model missing) counts as skipped, except in CI (CI=true), where the scripts fail.
-option(NNS_DEMOS_TFLITE_ENGINE
-       "run the TFLite face and pose demo tests (need the TFLite engine back end)" OFF)
+# pose) as tests. They use tensor_filter framework=tensorflow-lite, which is our TFLite back end
+# (libnnstreamer_filter_tensorflow2-lite.so, docs/backends/tflite.md) when it is built, Arm NN
+# otherwise (Arm NN cannot parse BlazeFace's fp16 weights nor MoveNet's CAST). Exit 77 (../shared,
+# a photo, or a back end that opens the model missing) counts as skipped, except in CI
+# (CI=true), where the scripts fail.
 set(_nns_shared "${CMAKE_SOURCE_DIR}/../shared")
 if(DEFINED ENV{NNS_SHARED_DIR})
   set(_nns_shared "$ENV{NNS_SHARED_DIR}")
@@ -21,7 +18,8 @@ set_tests_properties(example.tflite_classification PROPERTIES
   PASS_REGULAR_EXPRESSION "(^|\n)orange\n" SKIP_RETURN_CODE 77 LABELS demo TIMEOUT 120)
 
 # orange.png: the orange (COCO class 54) at Arm NN CpuRef's box 58,61 212x212 (300x300 pixels,
-# score 0.75) +-3 px; astronaut.png: a person about the photo's height.
+# score 0.75) +-3 px; astronaut.png: a person about the photo's height. Label "slow": on Arm NN
+# (no TFLite back end) it takes ~7 s of CPU per photo.
 add_test(NAME example.object_detection
          COMMAND bash ${CMAKE_SOURCE_DIR}/examples/object_detection/run.sh)
 set_tests_properties(example.object_detection PROPERTIES
@@ -45,6 +43,3 @@ set_tests_properties(example.pose PROPERTIES
   ENVIRONMENT "${_nns_tflite_env};NNS_POSE_OUTPUT=${CMAKE_BINARY_DIR}/demo/pose-test.png;NNS_POSE_LAYER=${CMAKE_BINARY_DIR}/demo/pose-test-layer.rgba"
   SKIP_RETURN_CODE 77 LABELS demo TIMEOUT 120)
 
-if(NOT NNS_DEMOS_TFLITE_ENGINE)
-  set_tests_properties(example.tflite_face example.pose PROPERTIES DISABLED TRUE)
-endif()
