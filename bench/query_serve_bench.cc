@@ -49,12 +49,13 @@
 
 #include "../tests/mqtt/mosquitto_broker.h"  // free_port()
 #include "gst/plugin_init.h"
+#include "query_bench_util.h"
 
 extern char **environ;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC: comparable between processes
+using namespace nns::bench::query;  // NOLINT: now_ns, cpu_s, pct, loadavg, launch, read_all
 constexpr std::size_t kFrame = 224 * 224 * 3;
 constexpr int kWarm = 5;
 constexpr int kOrange = 950;  // ImageNet index of "orange" (imagenet_labels_1000.txt)
@@ -63,40 +64,6 @@ const char *kPre =
     "tensor_transform mode=arithmetic option=typecast:float32,per-channel:true@0,"
     "add:-123.675@0,add:-116.280@1,add:-103.530@2,div:58.3950@0,div:57.1200@1,div:57.3750@2 ! "
     "tensor_transform mode=transpose option=1:2:0:3";
-
-int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch())
-      .count();
-}
-
-double cpu_s() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
-}
-
-double pct(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))];
-}
-
-std::string loadavg() {
-  std::ifstream f("/proc/loadavg");
-  std::string a, b, c;
-  f >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
-
-GstElement *launch(const std::string &d) {
-  GError *err = nullptr;
-  GstElement *p = gst_parse_launch(d.c_str(), &err);
-  if (!p || err) {
-    std::fprintf(stderr, "%s: %s\n", d.c_str(), err ? err->message : "?");
-    std::exit(1);
-  }
-  return p;
-}
 
 GstElement *by_name(GstElement *p, const char *n) {
   return gst_bin_get_by_name(GST_BIN(p), n);
@@ -166,51 +133,7 @@ struct Busy {
   }
 };
 
-// Argmax of a float32 score tensor (the model's 1000 classes).
-int argmax(GstBuffer *b) {
-  GstMapInfo m;
-  if (!gst_buffer_map(b, &m, GST_MAP_READ)) return -1;
-  const auto *f = reinterpret_cast<const float *>(m.data);
-  const std::size_t n = m.size / sizeof(float);
-  const int best = n ? static_cast<int>(std::max_element(f, f + n) - f) : -1;
-  gst_buffer_unmap(b, &m);
-  return best;
-}
-
 // ---------------------------------------------------------------- the client process
-
-struct ClientProbes {
-  std::mutex m;
-  std::map<GstClockTime, int64_t> sent;   // pts -> last time offered (a re-offer overwrites)
-  std::vector<double> rtt_us;             // timed frames only
-  std::atomic<int> answers{0}, timed{0};  // all answers; answers to timed frames
-  std::atomic<GstClockTime> timed_from{GST_CLOCK_TIME_NONE};  // first timed frame's pts
-  std::atomic<int64_t> last_answer{0};
-  std::atomic<int> label{-1};
-  static GstPadProbeReturn in(GstPad *, GstPadProbeInfo *i, gpointer d) {
-    auto *p = static_cast<ClientProbes *>(d);
-    std::lock_guard<std::mutex> l(p->m);
-    p->sent[GST_BUFFER_PTS(GST_PAD_PROBE_INFO_BUFFER(i))] = now_ns();
-    return GST_PAD_PROBE_OK;
-  }
-  static GstPadProbeReturn out(GstPad *, GstPadProbeInfo *i, gpointer d) {
-    auto *p = static_cast<ClientProbes *>(d);
-    const int64_t t = now_ns();
-    GstBuffer *b = GST_PAD_PROBE_INFO_BUFFER(i);
-    const GstClockTime pts = GST_BUFFER_PTS(b);
-    p->label = argmax(b);
-    ++p->answers;
-    std::lock_guard<std::mutex> l(p->m);
-    auto it = p->sent.find(pts);
-    if (p->timed_from != GST_CLOCK_TIME_NONE && pts >= p->timed_from) {
-      if (it != p->sent.end()) p->rtt_us.push_back((t - it->second) / 1e3);
-      p->last_answer = t;
-      ++p->timed;
-    }
-    if (it != p->sent.end()) p->sent.erase(it);
-    return GST_PAD_PROBE_OK;
-  }
-};
 
 guint64 stat(GstElement *q, const char *field) {
   GstStructure *s = nullptr;
@@ -306,34 +229,10 @@ int client_main(uint16_t port, const std::string &mode, int frames, int win, int
 
 // ---------------------------------------------------------------- the parent
 
-struct Child {
-  pid_t pid = -1;
-  FILE *to = nullptr, *from = nullptr;
-};
+using nns::bench::query::Child;
 
 Child spawn_client(const std::vector<std::string> &args) {
-  int in[2], out[2];
-  if (pipe(in) != 0 || pipe(out) != 0) std::exit(1);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-  posix_spawn_file_actions_adddup2(&fa, out[1], 1);
-  for (int fd : {in[0], in[1], out[0], out[1]}) posix_spawn_file_actions_addclose(&fa, fd);
-  std::vector<std::string> a = args;
-  std::vector<char *> argv;
-  for (auto &s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  Child c;
-  if (posix_spawn(&c.pid, "/proc/self/exe", &fa, nullptr, argv.data(), environ) != 0) {
-    std::perror("posix_spawn");
-    std::exit(1);
-  }
-  posix_spawn_file_actions_destroy(&fa);
-  close(in[0]);
-  close(out[1]);
-  c.to = fdopen(in[1], "w");
-  c.from = fdopen(out[0], "r");
-  return c;
+  return nns::bench::query::spawn_child(args);
 }
 
 struct Served {
@@ -427,20 +326,10 @@ struct Series {
   double hi() const { return v.empty() ? 0 : *std::max_element(v.begin(), v.end()); }
 };
 
-std::vector<uint8_t> read_all(const std::string &p) {
-  std::ifstream f(p, std::ios::binary);
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});
-}
-
 }  // namespace
 
 int main(int argc, char **argv) {
-  gst_init(&argc, &argv);
-  nns_register_static();
-  setenv("NNSTREAMER_FILTERS", (std::string(NNS_BUILD_DIR) + "/subplugins/filters").c_str(), 0);
-  const char *sd = std::getenv("NNS_SHARED_DIR");
-  const std::string shared =
-      (sd ? std::string(sd) : std::string(NNS_SOURCE_DIR) + "/../shared") + "/models/upstream";
+  const std::string shared = init_and_shared_dir(&argc, &argv);
   std::string model = shared + "/models/mobilenet_v2_quant.onnx";
   const std::vector<uint8_t> frame = read_all(shared + "/data/orange.raw");
   int frames = 60, runs = 7, clients = 2, win = 2, threads = 1, poll_us = 2000;

@@ -72,3 +72,62 @@ nns_fetch_astronaut() {
   fi
   echo "$png"
 }
+
+# nns_launch_tflite <gst-launch arguments...>: runs gst-launch-1.0 -q; when it fails because no
+# tensor_filter back end could open the .tflite model ("could not open model": before the TFLite
+# engine is built, framework=tensorflow-lite falls back to armnn, which cannot parse every
+# model), exits $missing (77 skipped locally, 1 in CI); any other failure exits 1. stdout passes
+# through; stderr is shown after the run.
+nns_launch_tflite() {
+  local log rc=0
+  log=$(mktemp)
+  gst-launch-1.0 -q "$@" 2>"$log" || rc=$?
+  cat "$log" >&2
+  if ((rc != 0)); then
+    if grep -q "could not open model" "$log"; then
+      rm -f "$log"
+      nns_die "$missing" "no tensor_filter back end opens the model (TFLite back end not built?)"
+    fi
+    rm -f "$log"
+    nns_die 1 "gst-launch-1.0 failed (exit $rc)"
+  fi
+  rm -f "$log"
+}
+
+# nns_png_size <file.png>: prints "WIDTH HEIGHT" of a PNG file (from its IHDR); exits 1 with a
+# message when the file is not a PNG.
+nns_png_size() {
+  [[ $(head -c 8 "$1" | od -An -tx1 | tr -d ' \n') == 89504e470d0a1a0a ]] ||
+    nns_die 1 "'$1' is not a PNG file"
+  od -An -tu1 -j16 -N8 "$1" |
+    awk '{print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'
+}
+
+# nns_demo_photo [photo]: sets `photo` (the argument, or skimage's astronaut.png) and `width`,
+# `height` (from its PNG header); exits $missing when the photo is unavailable.
+# shellcheck disable=SC2034  # globals for the calling script
+nns_demo_photo() {
+  photo=${1:-}
+  [[ -n $photo ]] || photo=$(nns_fetch_astronaut "") || nns_die "$missing" "astronaut.png unavailable"
+  [[ -f $photo ]] || nns_die "$missing" "photo '$photo' not found"
+  read -r width height < <(nns_png_size "$photo")
+}
+
+# nns_launch_tflite_overlay <photo.png> <out.png> <model branch...>: one frame of the photo
+# through the model branch (gst-launch elements from the RGBA photo to a decoder giving an RGBA
+# layer of the photo's size), the layer laid over the photo by compositor, written as PNG.
+# Further gst-launch branches (e.g. from a tee named in the model branch) may follow in the
+# array nns_overlay_extra. Run through nns_launch_tflite (exit $missing when no back end opens
+# the model).
+nns_launch_tflite_overlay() {
+  local photo=$1 out=$2
+  shift 2
+  nns_launch_tflite \
+    filesrc location="$photo" ! pngdec ! videoconvert ! video/x-raw,format=RGBA ! \
+    imagefreeze num-buffers=1 ! tee name=t \
+    t. ! queue ! mix.sink_0 \
+    t. ! queue ! "$@" ! mix.sink_1 \
+    compositor name=mix sink_1::zorder=1 ! videoconvert ! pngenc ! filesink location="$out" \
+    "${nns_overlay_extra[@]}"
+}
+nns_overlay_extra=()

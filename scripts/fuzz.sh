@@ -10,7 +10,9 @@
 #                                         SECONDS per target, one after the other, under
 #                                         nice -n $NNS_FUZZ_NICE (19); afterwards the target's
 #                                         corpus is minimized (-merge=1) into fuzz/corpus/<t>/
-#                                         and its figures go to $NNS_FUZZ_DIR/campaign/<t>.txt
+#                                         (tflite_model: kept in $NNS_FUZZ_DIR, its inputs derive
+#                                         from ../shared/models) and its figures go to
+#                                         $NNS_FUZZ_DIR/campaign/<t>.txt
 # env:   NNS_FUZZ_SECONDS   smoke run: total run time shared by the targets (default 180)
 #        NNS_FUZZ_DIR       build folder (default build-fuzz/ beside build/)
 #        NNS_JOBS           build jobs (default 2)
@@ -24,7 +26,7 @@ JOBS=${NNS_JOBS:-2}
 CLANG=${CXX:-clang++}
 [[ $CLANG == *clang++* ]] || CLANG=clang++
 ALL=(wire_protobuf wire_flatbuf wire_flexbuf meta_header iio_channel edge_frame mqtt_message
-  edge_data)
+  edge_data tflite_model)
 CAMPAIGN=0
 if [[ ${1:-} == --campaign ]]; then
   CAMPAIGN=${2:?--campaign needs the seconds per target}
@@ -50,6 +52,12 @@ cmake --build "$DIR" -j"$JOBS" >"$DIR/build.log" 2>&1 || {
 # Seeds: regenerated every run (cheap), kept apart from what the fuzzer adds.
 rm -rf "$DIR/seeds"
 "$DIR/nns_fuzz_corpus" "$DIR/seeds" >/dev/null
+# tflite_model: the small real models of ../shared/models when present (never copied into git).
+mkdir -p "$DIR/seeds/tflite_model"
+for f in "$ROOT"/../shared/models/upstream/models/{add,simple_32_in_32_out}.tflite \
+  "$ROOT"/../shared/models/tflite/{hello_world_float,hello_world_int8,micro_speech_quantized}.tflite; do
+  if [[ -f $f ]]; then cp "$f" "$DIR/seeds/tflite_model/"; fi
+done
 # Regression inputs of fixed bugs (tiny, in git) and the stored corpus of the last campaign
 # (minimized, in git): every run replays them first, so a fixed finding that comes back fails.
 for t in "${ALL[@]}"; do
@@ -89,11 +97,14 @@ if ((CAMPAIGN)); then
     rm -rf "$work.min" && mkdir -p "$work.min"
     nice -n "${NNS_FUZZ_NICE:-19}" "$exe" -merge=1 "$work.min" "$work" "$DIR/seeds/$t" \
       -max_len=65536 -timeout=10 -rss_limit_mb=1024 >"$DIR/campaign/$t.merge.log" 2>&1 || true
-    rm -rf "$ROOT/fuzz/corpus/$t" && mkdir -p "$ROOT/fuzz/corpus/$t"
-    cp "$work.min"/* "$ROOT/fuzz/corpus/$t/" 2>/dev/null || true
-    n=$(find "$ROOT/fuzz/corpus/$t" -type f | wc -l)
-    kb=$(du -sk --apparent-size "$ROOT/fuzz/corpus/$t" | cut -f1)
-    line="$t: $(($(date +%s) - t0))s, exit $rc, $execs executions, cov $cov, ft $ft, corpus $corp -> $n files ($kb KiB) stored, load: $(cut -d' ' -f1-3 /proc/loadavg)"
+    # tflite_model's inputs are (mutated) real models of ../shared/models: never into git.
+    store=$ROOT/fuzz/corpus/$t
+    [[ $t == tflite_model ]] && store=$DIR/campaign/$t.stored
+    rm -rf "$store" && mkdir -p "$store"
+    cp "$work.min"/* "$store/" 2>/dev/null || true
+    n=$(find "$store" -type f | wc -l)
+    kb=$(du -sk --apparent-size "$store" | cut -f1)
+    line="$t: $(($(date +%s) - t0))s, exit $rc, $execs executions, cov $cov, ft $ft, corpus $corp -> $n files ($kb KiB) stored in ${store#"$ROOT"/}, load: $(cut -d' ' -f1-3 /proc/loadavg)"
     echo "$line" | tee "$DIR/campaign/$t.txt" | sed 's/^/[fuzz] /'
     if ((rc)); then
       tail -n 40 "$DIR/campaign/$t.log"

@@ -9,6 +9,7 @@
 #
 # usage: scripts/setup.sh [--no-apt] [--no-npm] [--no-build] [--no-demo]
 # env:   NNS_BUILD_DIR (build), NNS_BUILD_TYPE (Release), NNS_JOBS (nproc),
+#        NNS_INSTALL_PREFIX (/usr, first configure only; scripts/package.sh needs /usr),
 #        NNS_APT_LOCK (/tmp/nns-apt.lock, used with flock when flock exists),
 #        NNS_NPM_KEEP_TARBALLS=1 keeps downloaded npm tarballs in third_party/npm/.tarballs/.
 set -euo pipefail
@@ -235,8 +236,10 @@ build() {
   local log=$LOG_DIR/cmake.log
   : >"$log"
   # Only pass the build type when configuring for the first time, so a re-run keeps the cache.
+  # The prefix /usr is Debian's layout, which scripts/package.sh packages (docs/packaging.md).
   local cfg=(-S "$ROOT" -B "$BUILD_DIR")
-  [[ -f $BUILD_DIR/CMakeCache.txt ]] || cfg+=(-DCMAKE_BUILD_TYPE="$BUILD_TYPE")
+  [[ -f $BUILD_DIR/CMakeCache.txt ]] ||
+    cfg+=(-DCMAKE_BUILD_TYPE="$BUILD_TYPE" -DCMAKE_INSTALL_PREFIX="${NNS_INSTALL_PREFIX:-/usr}")
   cmake "${cfg[@]}" >>"$log" 2>&1 || fail "cmake configure" "see the CMake errors below" "$log"
   # Optional parts that will not be built (back ends without their dependency, ...).
   grep -iE '^-- .*(not built|skipping|not found)' "$log" |

@@ -12,6 +12,16 @@ if(TARGET compat_util_test)
                              ${CMAKE_SOURCE_DIR}/backends)
 endif()
 
+# compat_more_api_test: the further 2.7 symbols (orc helpers, tensor_data, watchdog, sub-plugin
+# table, tensor_common, sparse), from the real libnnstreamer-single.so and the plugin's objects.
+if(TARGET compat_more_api_test)
+  target_link_libraries(compat_more_api_test PRIVATE nnstreamer-single nns_compat_gst)
+  target_include_directories(compat_more_api_test PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+  target_compile_definitions(compat_more_api_test PRIVATE
+                             NNS_TEST_FILTER_DIR="${CMAKE_BINARY_DIR}/tests/filter")
+  add_dependencies(compat_more_api_test nns_test_custom_passthrough nns_test_custom_scaler)
+endif()
+
 # 1. Install the tree into a fresh prefix and build C extensions from it alone (fixture).
 set(_program yes)
 if(NNS_SANITIZE)
@@ -76,3 +86,27 @@ target_compile_definitions(compat_bind_check PRIVATE
 add_dependencies(compat_bind_check nnstreamer nns_test_bind_fake nns_test_bind_control)
 gtest_discover_tests(compat_bind_check DISCOVERY_TIMEOUT 60
   PROPERTIES LABELS compat TIMEOUT 120 ENVIRONMENT "GST_PLUGIN_PATH=")
+
+# 6. nnstreamer_filter_find() for each of our back ends, from a C program written as 2.x code
+# (NNStreamer's headers, linked to libnnstreamer.so): real models opened, invoked, compared.
+add_executable(compat_find_frameworks ${_c}/find_frameworks.c)
+target_include_directories(compat_find_frameworks PRIVATE ${CMAKE_SOURCE_DIR}/include/nnstreamer)
+target_link_libraries(compat_find_frameworks PRIVATE ${CMAKE_BINARY_DIR}/lib/libnnstreamer.so
+                      PkgConfig::GST nns_warnings)
+set_target_properties(compat_find_frameworks PROPERTIES BUILD_RPATH ${CMAKE_BINARY_DIR}/lib)
+add_dependencies(compat_find_frameworks nnstreamer nns_test_custom_scaler)
+if(NOT NNS_SANITIZE)  # the program loads the plugin itself
+  set(_shared ${CMAKE_SOURCE_DIR}/../shared/models/upstream)
+  if(DEFINED ENV{NNS_SHARED_DIR})
+    set(_shared $ENV{NNS_SHARED_DIR}/models/upstream)
+  endif()
+  add_test(NAME compat.find_frameworks
+    COMMAND compat_find_frameworks ${_shared} ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/tests/filter)
+  set_tests_properties(compat.find_frameworks PROPERTIES LABELS compat TIMEOUT 120
+    PASS_REGULAR_EXPRESSION "\nOK\n$"
+    ENVIRONMENT "GST_PLUGIN_PATH=;NNSTREAMER_CONF=${CMAKE_BINARY_DIR}/nnstreamer.ini;\
+NNSTREAMER_FILTERS=${CMAKE_BINARY_DIR}/subplugins/filters;\
+NNSTREAMER_DECODERS=${CMAKE_BINARY_DIR}/subplugins/decoders;\
+NNSTREAMER_CONVERTERS=${CMAKE_BINARY_DIR}/subplugins/converters;\
+PYTHONPATH=${CMAKE_BINARY_DIR}/python")
+endif()

@@ -48,3 +48,20 @@ foreach(t ${_compat2x_tests})
     endif()
   endif()
 endforeach()
+
+# C++ sub-plugins (nnstreamer::tensor_filter_subplugin), one source, four files in filters/:
+# cppx_pass, cppx_multi, cppx_dyn, cppx_fail. Like NNStreamer's own, they resolve the class and
+# the utility functions in the library that loads them (libnnstreamer.so, or the test program).
+set(_cppx_names cppx_pass cppx_multi cppx_dyn cppx_fail)
+set(_cppx_kind 1)
+foreach(n ${_cppx_names})
+  _nns_2x(nns_2x_${n} cpp_filters.cc filter ${n} filters)
+  target_compile_definitions(nns_2x_${n} PRIVATE CPPX_KIND=${_cppx_kind})
+  target_link_libraries(nns_2x_${n} PRIVATE PkgConfig::GST)
+  list(APPEND _targets nns_2x_${n})
+  math(EXPR _cppx_kind "${_cppx_kind} + 1")
+endforeach()
+if(TARGET cppplugin_test)
+  add_dependencies(cppplugin_test ${_targets} nnstreamer)
+  target_link_libraries(cppplugin_test PRIVATE nns_compat_util)
+endif()

@@ -15,3 +15,11 @@ if(TARGET edge_custom_test)
     NNS_TEST_CUSTOM_LIB_NOSTART="$<TARGET_FILE:nns_test_edge_custom_nostart>"
     NNS_TEST_EDGE_CAPI="$<TARGET_FILE:nns_edge_capi>")
 endif()
+
+# Query server batching runs generated ONNX models through the onnxruntime back end.
+if(TARGET query_batch_test AND TARGET nns_filter_onnxruntime)
+  add_dependencies(query_batch_test nns_filter_onnxruntime)
+endif()
+if(TARGET query_batch_test AND TARGET nns_filter_pytorch)
+  add_dependencies(query_batch_test nns_filter_pytorch)
+endif()

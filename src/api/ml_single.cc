@@ -6,6 +6,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "api/ml_model_check.h"
 #include "api/ml_nnfw_names.h"
 #include "api/ml_single_handle.h"
 #include "core/filter_desc.h"
@@ -26,7 +27,8 @@ std::string accelerator_value(const char *hw) {
   return hw && *hw ? std::string("true:") + hw : std::string();
 }
 
-int open_common(ml_single_h *single, const char *models, const char *framework,
+// `nnfw`: the framework as an ml_nnfw_type_e (ML_NNFW_TYPE_ANY when given by name or not at all).
+int open_common(ml_single_h *single, const char *models, const char *framework, ml_nnfw_type_e nnfw,
                 TensorsInfoHandle *in, TensorsInfoHandle *out, const char *custom,
                 const char *accel) {
   const std::string fn = "ml_single_open";
@@ -60,6 +62,10 @@ int open_common(ml_single_h *single, const char *models, const char *framework,
                                                       "] '" + m +
                                                       "' is not a file that can be read");
     }
+  // As NNStreamer, a framework that cannot open these files is refused before it is looked for.
+  std::string why;
+  if (int rc = nns::ml::check_models_for_nnfw(nnfw, h->spec.models, &why))
+    return report(rc, fn + ": " + why);
   try {
     auto conf = current_filter_conf();
     try {
@@ -217,7 +223,8 @@ NNS_API int ml_single_open_full(ml_single_h *single, const char *model,
   TensorsInfoHandle *out = output_info ? as_info(output_info) : nullptr;
   if ((input_info && !in) || (output_info && !out))
     return report(ML_ERROR_INVALID_PARAMETER, "ml_single_open: invalid tensors-info handle");
-  return open_common(single, model, fw, in, out, custom_option, accelerator_value(accel).c_str());
+  return open_common(single, model, fw, nnfw, in, out, custom_option,
+                     accelerator_value(accel).c_str());
 }
 
 NNS_API int ml_single_open(ml_single_h *single, const char *model,
@@ -238,9 +245,11 @@ NNS_API int ml_single_open_with_option(ml_single_h *single, const ml_option_h op
   const char *models = static_cast<const char *>(get("models"));
   const char *fw = static_cast<const char *>(get("framework_name"));
   if (!fw) fw = static_cast<const char *>(get("framework"));
+  ml_nnfw_type_e by_type = ML_NNFW_TYPE_ANY;
   if (!fw) {
     auto *nnfw = static_cast<ml_nnfw_type_e *>(get("nnfw"));
-    fw = framework_name(nnfw ? *nnfw : ML_NNFW_TYPE_ANY);
+    if (nnfw) by_type = *nnfw;
+    fw = framework_name(by_type);
     if (!fw)
       return report(ML_ERROR_INVALID_PARAMETER,
                     fn + ": \"nnfw\" " + std::to_string(*nnfw) + " is not a framework type");
@@ -256,7 +265,7 @@ NNS_API int ml_single_open_with_option(ml_single_h *single, const ml_option_h op
     return report(ML_ERROR_INVALID_PARAMETER, fn + ": \"" +
                                                   (in_v && !in ? "input_info" : "output_info") +
                                                   "\" is not an ml_tensors_info_h");
-  return open_common(single, models, fw, in, out, static_cast<const char *>(get("custom")),
+  return open_common(single, models, fw, by_type, in, out, static_cast<const char *>(get("custom")),
                      accelerator_value(accel).c_str());
 }
 

@@ -613,9 +613,11 @@ NNS_COMPAT_API gboolean gst_tensor_meta_info_convert(GstTensorMetaInfo *meta, Gs
 
 // Version -----------------------------------------------------------------------------------
 
+// Exactly NNStreamer's "NNStreamer M.m.u" (its versionControl test compares it with the numbers
+// nnstreamer_version_fetch() gives); nnstreamer-cpp's own version is the plugin's (gst-inspect).
 NNS_COMPAT_API gchar *nnstreamer_version_string(void) {
-  return g_strdup_printf("NNStreamer %d.%d.%d (nnstreamer-cpp %s)", NNSTREAMER_VERSION_MAJOR,
-                         NNSTREAMER_VERSION_MINOR, NNSTREAMER_VERSION_MICRO, NNS_VERSION);
+  return g_strdup_printf("NNStreamer %d.%d.%d", NNSTREAMER_VERSION_MAJOR, NNSTREAMER_VERSION_MINOR,
+                         NNSTREAMER_VERSION_MICRO);
 }
 
 NNS_COMPAT_API void nnstreamer_version_fetch(guint *major, guint *minor, guint *micro) {

@@ -279,6 +279,9 @@ std::vector<std::string> FilterRegistry::name_candidates(const std::string &fram
   for (auto &n : split(conf.value(framework, "subplugin_priority"), ",")) push_unique(out, n);
   push_unique(out, trim(conf.value("filter-aliases", framework)));
   if (is_tflite_alias(framework)) {
+    // Our TFLite back end is built as upstream's libnnstreamer_filter_tensorflow2-lite.so;
+    // every alias reaches it first, armnn stays the fallback.
+    push_unique(out, "tensorflow2-lite");
     for (auto &n : conf.framework_priority("tflite"))
       if (!is_tflite_alias(n)) push_unique(out, n);
     push_unique(out, "armnn");
@@ -313,7 +316,7 @@ std::vector<std::string> FilterRegistry::auto_candidates(const std::vector<std::
 BackendRef FilterRegistry::resolve(const std::string &framework,
                                    const std::vector<std::string> &models, const FilterConf &conf) {
   std::string fw = trim(framework);
-  bool is_auto = fw.empty() || fw == "auto";
+  bool is_auto = fw.empty() || lower(fw) == "auto";  // "AutO" too, as NNStreamer
   std::vector<std::string> cands;
   if (is_auto) {
     if (models.empty())

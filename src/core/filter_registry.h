@@ -10,7 +10,8 @@
 // framework=auto picks a back end from the model file extension: nnstreamer.ini's
 // framework_priority_<ext> first, then NNStreamer's table (.tflite -> tensorflow-lite,
 // .pt -> pytorch, .onnx -> onnxruntime then opencv, .so -> custom, ...). Aliases such as
-// tensorflow-lite resolve through the ini's [<alias>] subplugin_priority= or
+// tensorflow-lite resolve through the ini's [<alias>] subplugin_priority=, then our TFLite back
+// end (libnnstreamer_filter_tensorflow2-lite.so, for every tflite alias), then
 // framework_priority_tflite (default: armnn), and [filter-aliases] <alias>=<name>.
 #pragma once
 

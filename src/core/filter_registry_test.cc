@@ -44,7 +44,7 @@ TEST(FilterRegistry, AutoCandidatesFollowTableAndPriority) {
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"/m/f.so"}, c), (V{"custom"}));
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"/m/s.py"}, c), (V{"python3"}));
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"/m/x.tflite"}, c),
-            (V{"tensorflow-lite", "armnn"}));
+            (V{"tensorflow-lite", "tensorflow2-lite", "armnn"}));
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"/m.d/noext"}, c), V{});
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"a.pb", "b.pb"}, c), (V{"caffe2"}));
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"a.so", "b.nb"}, c), (V{"vivante"}));
@@ -53,7 +53,7 @@ TEST(FilterRegistry, AutoCandidatesFollowTableAndPriority) {
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"m.onnx"}, c), (V{"opencv", "onnxruntime"}));
   c.values["filter/framework_priority_tflite"] = "nnfw,armnn";
   EXPECT_EQ(nns::FilterRegistry::auto_candidates({"x.tflite"}, c),
-            (V{"nnfw", "armnn", "tensorflow-lite"}));
+            (V{"nnfw", "armnn", "tensorflow-lite", "tensorflow2-lite"}));
 }
 
 TEST(FilterRegistry, NameCandidatesExpandAliases) {
@@ -61,9 +61,11 @@ TEST(FilterRegistry, NameCandidatesExpandAliases) {
   EXPECT_EQ(nns::FilterRegistry::name_candidates("pytorch", c), (V{"pytorch"}));
   EXPECT_EQ(nns::FilterRegistry::name_candidates("tensorflow2-lite", c),
             (V{"tensorflow2-lite", "armnn"}));
+  EXPECT_EQ(nns::FilterRegistry::name_candidates("tflite", c),
+            (V{"tflite", "tensorflow2-lite", "armnn"}));
   c.values["tensorflow-lite/subplugin_priority"] = "nnfw, armnn";
   EXPECT_EQ(nns::FilterRegistry::name_candidates("tensorflow-lite", c),
-            (V{"tensorflow-lite", "nnfw", "armnn"}));
+            (V{"tensorflow-lite", "nnfw", "armnn", "tensorflow2-lite"}));
   c.values["filter-aliases/ort"] = "onnxruntime";
   EXPECT_EQ(nns::FilterRegistry::name_candidates("ort", c), (V{"ort", "onnxruntime"}));
 }

@@ -147,10 +147,22 @@ ArithOptions parse_arithmetic(const Ctx &c) {
   for (; idx < tokens.size(); ++idx) {
     const std::string &t = tokens[idx];
     std::string key = key_of(t);
-    if (key == "typecast")
+    if (key == "typecast") {
+      // Upstream removes later typecast:TYPE items and ignores them; only the last item can go
+      // without leaving an empty item behind (which its grammar refuses), so only that one is
+      // accepted here, with a warning.
+      auto parts = split(t, ":", false);
+      if (idx + 1 == tokens.size() && parts.size() == 2 && a.ops.size() > 0) {
+        parse_type_token(c, parts[1], t);
+        a.warnings.push_back(quote(t) +
+                             " is ignored: only a typecast:TYPE given first sets the output "
+                             "type (put it first to cast the result)");
+        continue;
+      }
       c.bad(quote(t) +
             " must be the first item (typecast:TYPE,...) so the output is allocated "
             "once");
+    }
     if (key == "per-channel")
       c.bad(quote(t) + " must come before the operations (after an optional typecast:TYPE)");
     ArithOp op;

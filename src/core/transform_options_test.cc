@@ -122,7 +122,16 @@ TEST(TransformOptions, Arithmetic) {
   expect_bad(Mode::kArithmetic, "add:x", {"bad number 'x'", "'add:x'"});
   expect_bad(Mode::kArithmetic, "add:1.", {"bad number '1.'"});
   expect_bad(Mode::kArithmetic, "add", {"'add' has no value"});
-  expect_bad(Mode::kArithmetic, "add:1,typecast:float32", {"'typecast:float32' must be the first"});
+  expect_bad(Mode::kArithmetic, "add:1,typecast:float32,mul:2",
+             {"'typecast:float32' must be the first"});
+  // A typecast last is ignored as upstream does (its test arithmetic4), with a warning.
+  auto late = parse_options(Mode::kArithmetic, "typecast:float64,add:0.2,add:0.1,typecast:uint16")
+                  .get<ArithOptions>();
+  EXPECT_EQ(late.out_type, TensorType::kFloat64);
+  EXPECT_EQ(late.ops.size(), 2u);
+  ASSERT_EQ(late.warnings.size(), 1u);
+  EXPECT_NE(late.warnings[0].find("'typecast:uint16' is ignored"), std::string::npos);
+  expect_bad(Mode::kArithmetic, "add:1,typecast:float99", {"unknown type 'float99'"});
   expect_bad(Mode::kArithmetic, "typecast:float33,add:1", {"unknown type 'float33'"});
   expect_bad(Mode::kArithmetic, "typecast:float32", {"no add/mul/div"});
   expect_bad(Mode::kArithmetic, "add:1,,mul:2", {"empty item"});

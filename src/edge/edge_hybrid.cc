@@ -12,11 +12,11 @@
 
 #include <chrono>
 #include <condition_variable>
-#include <map>
 #include <mutex>
 #include <vector>
 
 #include "core/error.h"
+#include "edge/edge_discovery.h"
 #include "edge/edge_node.h"
 #include "mqtt/mqtt_client.h"
 
@@ -39,18 +39,6 @@ void require_topic(const NodeOptions &o) {
 
 std::string broker_name(const NodeOptions &o) {
   return o.dest_host + ":" + std::to_string(o.dest_port);
-}
-
-// "host:port" -> parts; false when malformed.
-bool split_host_port(const std::string &s, std::string *host, uint16_t *port) {
-  const std::size_t c = s.rfind(':');
-  if (c == std::string::npos || c == 0 || c + 1 >= s.size()) return false;
-  char *end = nullptr;
-  const unsigned long v = std::strtoul(s.c_str() + c + 1, &end, 10);
-  if (*end != '\0' || v == 0 || v > 65535) return false;
-  *host = s.substr(0, c);
-  *port = static_cast<uint16_t>(v);
-  return true;
 }
 
 class HybridServer final : public ServerNode {
@@ -114,32 +102,26 @@ class HybridServer final : public ServerNode {
 class HybridClient final : public ClientNode {
  public:
   HybridClient(const NodeOptions &o, NodeCallbacks cb) : o_(o), cb_(std::move(cb)) {}
-  ~HybridClient() override {
-    disconnect();
-    if (mqtt_) mqtt_->stop();
-  }
+  ~HybridClient() override { disconnect(); }
 
   void connect() override {
     require_topic(o_);
     disconnect();
     const auto deadline =
         std::chrono::steady_clock::now() + std::chrono::milliseconds(o_.connect_timeout_ms);
-    if (!mqtt_) open_discovery();
+    if (!disc_) {
+      auto d = std::make_unique<Discovery>(o_);
+      d->start();
+      disc_ = std::move(d);
+    }
     std::string why;
-    std::unique_lock<std::mutex> l(m_);
     for (;;) {
       // Newest announcement first; a server that fails is forgotten until it announces again.
-      while (!order_.empty()) {
-        const std::string topic = order_.back();
-        const std::string hp = servers_[topic];
-        order_.pop_back();
-        servers_.erase(topic);
-        l.unlock();
+      while (auto s = disc_->take_newest()) {
         std::string host;
         uint16_t port = 0;
-        if (!split_host_port(hp, &host, &port)) {
-          why += "; '" + hp + "' on " + topic + " is not host:port";
-          l.lock();
+        if (!split_host_port(s->address, &host, &port)) {
+          why += "; '" + s->address + "' on " + s->topic + " is not host:port";
           continue;
         }
         NodeOptions t = o_;
@@ -153,9 +135,8 @@ class HybridClient final : public ClientNode {
         } catch (const Error &e) {
           why += std::string("; ") + e.what();
         }
-        l.lock();
       }
-      if (cv_.wait_until(l, deadline, [&] { return !order_.empty(); })) continue;
+      if (disc_->wait_any(deadline)) continue;
       fail(ErrorKind::kNotFound, "connect-type HYBRID: no server announcing topic '" + o_.topic +
                                      "' on the broker " + broker_name(o_) + " answered within " +
                                      std::to_string(o_.connect_timeout_ms) + " ms" + why);
@@ -180,50 +161,86 @@ class HybridClient final : public ClientNode {
   }
 
  private:
-  void open_discovery() {
-    mqtt::ClientOptions mo{o_.dest_host, o_.dest_port,
-                           "nns_edge_client_" + std::to_string(getpid()) + "_" +
-                               std::to_string(reinterpret_cast<uintptr_t>(this)),
-                           60, true};
-    mqtt_ = std::make_unique<mqtt::Client>(
-        mo, [this](const std::string &topic, const uint8_t *d, std::size_t n) {
-          std::string hp(reinterpret_cast<const char *>(d), n);
-          if (const auto z = hp.find('\0'); z != std::string::npos) hp.resize(z);
-          std::lock_guard<std::mutex> l(m_);
-          for (auto it = order_.begin(); it != order_.end(); ++it)
-            if (*it == topic) {
-              order_.erase(it);
-              break;
-            }
-          servers_.erase(topic);
-          if (!hp.empty()) {  // an empty retained message: that server left
-            servers_[topic] = hp;
-            order_.push_back(topic);
-          }
-          cv_.notify_all();
-        });
-    mqtt_->subscribe("edge/inference/+/" + o_.topic + "/#", 1);
-    mqtt_->start();
-    if (!mqtt_->wait_connected(std::chrono::milliseconds(kBrokerWaitMs))) {
-      const std::string why = mqtt_->why();
-      mqtt_.reset();
-      fail(ErrorKind::kNotFound, "connect-type HYBRID: cannot connect to the MQTT broker " +
-                                     broker_name(o_) + " (dest-host/dest-port)" +
-                                     (why.empty() ? "" : ": " + why));
-    }
-  }
-
   NodeOptions o_;
   NodeCallbacks cb_;
-  std::unique_ptr<mqtt::Client> mqtt_;
+  std::unique_ptr<Discovery> disc_;
   std::unique_ptr<ClientNode> tcp_;
-  std::mutex m_;
-  std::condition_variable cv_;
-  std::map<std::string, std::string> servers_;  // announcement topic -> "host:port"
-  std::vector<std::string> order_;              // announcement topics, oldest first
 };
 
 }  // namespace
+
+bool split_host_port(const std::string &s, std::string *host, uint16_t *port) {
+  const std::size_t c = s.rfind(':');
+  if (c == std::string::npos || c == 0 || c + 1 >= s.size()) return false;
+  char *end = nullptr;
+  const unsigned long v = std::strtoul(s.c_str() + c + 1, &end, 10);
+  if (*end != '\0' || v == 0 || v > 65535) return false;
+  *host = s.substr(0, c);
+  *port = static_cast<uint16_t>(v);
+  return true;
+}
+
+Discovery::Discovery(const NodeOptions &o, std::function<void()> on_change)
+    : o_(o), on_change_(std::move(on_change)) {}
+
+Discovery::~Discovery() {
+  if (mqtt_) mqtt_->stop();
+}
+
+std::string Discovery::broker() const {
+  return broker_name(o_);
+}
+
+void Discovery::start() {
+  require_topic(o_);
+  mqtt::ClientOptions mo{o_.dest_host, o_.dest_port,
+                         "nns_edge_client_" + std::to_string(getpid()) + "_" +
+                             std::to_string(reinterpret_cast<uintptr_t>(this)),
+                         60, true};
+  mqtt_ = std::make_unique<mqtt::Client>(
+      mo, [this](const std::string &topic, const uint8_t *d, std::size_t n) {
+        std::string hp(reinterpret_cast<const char *>(d), n);
+        if (const auto z = hp.find('\0'); z != std::string::npos) hp.resize(z);
+        {
+          std::lock_guard<std::mutex> l(m_);
+          for (auto it = order_.begin(); it != order_.end(); ++it)
+            if (it->topic == topic) {
+              order_.erase(it);
+              break;
+            }
+          if (!hp.empty()) order_.push_back({topic, hp, ++gen_});  // empty: that server left
+          cv_.notify_all();
+        }
+        if (on_change_) on_change_();
+      });
+  mqtt_->subscribe("edge/inference/+/" + o_.topic + "/#", 1);
+  mqtt_->start();
+  if (!mqtt_->wait_connected(std::chrono::milliseconds(kBrokerWaitMs))) {
+    const std::string why = mqtt_->why();
+    mqtt_.reset();
+    fail(ErrorKind::kNotFound, "connect-type HYBRID: cannot connect to the MQTT broker " +
+                                   broker_name(o_) + " (dest-host/dest-port)" +
+                                   (why.empty() ? "" : ": " + why));
+  }
+}
+
+std::vector<Discovery::Server> Discovery::servers() const {
+  std::lock_guard<std::mutex> l(m_);
+  return order_;
+}
+
+std::optional<Discovery::Server> Discovery::take_newest() {
+  std::lock_guard<std::mutex> l(m_);
+  if (order_.empty()) return std::nullopt;
+  Server s = order_.back();
+  order_.pop_back();
+  return s;
+}
+
+bool Discovery::wait_any(std::chrono::steady_clock::time_point deadline) {
+  std::unique_lock<std::mutex> l(m_);
+  return cv_.wait_until(l, deadline, [&] { return !order_.empty(); });
+}
 
 std::unique_ptr<ServerNode> make_hybrid_server(const NodeOptions &opts, NodeCallbacks cb) {
   return std::make_unique<HybridServer>(opts, std::move(cb));

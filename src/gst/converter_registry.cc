@@ -121,6 +121,16 @@ std::string ConverterRegistry::load_error(std::string_view name) {
   return reg_.load_error(name);
 }
 
+bool ConverterRegistry::set_property_descs(std::string_view name,
+                                           SubpluginRegistry::PropertyDescs descs) {
+  return reg_.set_property_descs(name, std::move(descs));
+}
+
+std::optional<SubpluginRegistry::PropertyDescs> ConverterRegistry::property_descs(
+    std::string_view name) {
+  return reg_.property_descs(name);
+}
+
 nns_converter_subplugin_last_error_fn ConverterRegistry::last_error_fn(
     const NNStreamerExternalConverter *ex) {
   return reinterpret_cast<nns_converter_subplugin_last_error_fn>(
@@ -160,15 +170,12 @@ void unregisterExternalConverter(const char *name) {
 }
 
 void nnstreamer_converter_set_custom_property_desc(const char *name, const char *prop, ...) {
-  // Descriptions are only informative; log them for gst-inspect users running with debug.
+  if (!name) return;
   va_list ap;
   va_start(ap, prop);
-  for (const char *p = prop; p; p = va_arg(ap, const char *)) {
-    const char *desc = va_arg(ap, const char *);
-    GST_DEBUG("converter '%s' custom property '%s': %s", name ? name : "?", p, desc ? desc : "");
-    if (!desc) break;
-  }
+  auto descs = nns::gst::SubpluginRegistry::collect_descs(name, prop, ap);
   va_end(ap);
+  nns::gst::ConverterRegistry::instance().set_property_descs(name, std::move(descs));
 }
 
 int nnstreamer_converter_custom_register(const gchar *name, tensor_converter_custom func,

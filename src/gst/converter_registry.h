@@ -44,6 +44,9 @@ class ConverterRegistry {
   GstCaps *all_caps();
   // Why the last load of `name` failed ("" if none) — for error messages.
   std::string load_error(std::string_view name);
+  // Custom-property descriptions of a registered converter (see SubpluginRegistry).
+  bool set_property_descs(std::string_view name, SubpluginRegistry::PropertyDescs descs);
+  std::optional<SubpluginRegistry::PropertyDescs> property_descs(std::string_view name);
   // The optional nns_converter_subplugin_last_error() export of the object `ex` came from
   // (nullptr if none): the reason of its last failed convert() on the calling thread.
   nns_converter_subplugin_last_error_fn last_error_fn(const NNStreamerExternalConverter *ex);

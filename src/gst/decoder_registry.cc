@@ -64,6 +64,16 @@ std::string DecoderRegistry::load_error(std::string_view name) {
   return reg_.load_error(name);
 }
 
+bool DecoderRegistry::set_property_descs(std::string_view name,
+                                         SubpluginRegistry::PropertyDescs descs) {
+  return reg_.set_property_descs(name, std::move(descs));
+}
+
+std::optional<SubpluginRegistry::PropertyDescs> DecoderRegistry::property_descs(
+    std::string_view name) {
+  return reg_.property_descs(name);
+}
+
 int DecoderRegistry::add_custom(const char *name, tensor_decoder_custom func, void *data) {
   return customs_.add(name, CustomDecoder{func, data}, func != nullptr);
 }
@@ -94,15 +104,12 @@ const GstTensorDecoderDef *nnstreamer_decoder_find(const char *name) {
 }
 
 void nnstreamer_decoder_set_custom_property_desc(const char *name, const char *prop, ...) {
-  // Informative only: logged for users running with GST_DEBUG.
+  if (!name) return;
   va_list ap;
   va_start(ap, prop);
-  for (const char *p = prop; p; p = va_arg(ap, const char *)) {
-    const char *desc = va_arg(ap, const char *);
-    GST_DEBUG("decoder '%s' property '%s': %s", name ? name : "?", p, desc ? desc : "");
-    if (!desc) break;
-  }
+  auto descs = nns::gst::SubpluginRegistry::collect_descs(name, prop, ap);
   va_end(ap);
+  nns::gst::DecoderRegistry::instance().set_property_descs(name, std::move(descs));
 }
 
 int nnstreamer_decoder_custom_register(const gchar *name, tensor_decoder_custom func, void *data) {

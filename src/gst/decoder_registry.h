@@ -37,6 +37,9 @@ class DecoderRegistry {
   const GstTensorDecoderDef *find(std::string_view name);
   std::vector<std::string> names();  // registered and loadable, sorted, unique
   std::string load_error(std::string_view name);
+  // Custom-property descriptions of a registered decoder (see SubpluginRegistry).
+  bool set_property_descs(std::string_view name, SubpluginRegistry::PropertyDescs descs);
+  std::optional<SubpluginRegistry::PropertyDescs> property_descs(std::string_view name);
 
   int add_custom(const char *name, tensor_decoder_custom func, void *data);
   int remove_custom(const char *name);

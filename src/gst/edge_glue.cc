@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "gst/gst_ptr.h"
+#include "gst/query_batch.h"
 #include "gst/tensor_buffer.h"
 #include "gst/tensor_caps.h"
 
@@ -189,10 +190,19 @@ GstBuffer *buffer_from_message(edge::Message &&m, const TensorsConfig *config) {
 }
 
 std::string QueryServerShared::capability() {
-  auto peer_caps = [](GstPad *pad) -> std::string {
+  guint batch;
+  {
+    std::lock_guard<std::mutex> l(lock);
+    batch = max_batch;
+  }
+  auto peer_caps = [batch](GstPad *pad) -> std::string {
     if (!pad) return "ANY";
     CapsPtr c(gst_pad_peer_query_caps(pad, nullptr));
     if (!c) return "ANY";
+    if (batch > 1) {  // batches of `batch` downstream: the clients send and get one slot
+      CapsPtr one(unbatch_caps(c.get(), batch));
+      if (!gst_caps_is_empty(one.get())) c = std::move(one);
+    }
     GCharPtr s(gst_caps_to_string(c.get()));
     return s.get();
   };
@@ -207,6 +217,39 @@ std::string QueryServerShared::capability() {
   if (src) gst_object_unref(src);
   if (sink) gst_object_unref(sink);
   return s;
+}
+
+GType query_load_balance_get_type() {
+  static GType type = 0;
+  static const GEnumValue values[] = {
+      {static_cast<gint>(edge::Balance::kNone), "one server at a time, the others for fail-over",
+       "none"},
+      {static_cast<gint>(edge::Balance::kRoundRobin), "each request to the next server",
+       "round-robin"},
+      {static_cast<gint>(edge::Balance::kLeastOutstanding),
+       "each request to the server with the fewest requests in flight", "least-outstanding"},
+      {0, nullptr, nullptr}};
+  if (g_once_init_enter(&type))
+    g_once_init_leave(&type, g_enum_register_static("GstTensorQueryLoadBalance", values));
+  return type;
+}
+
+void add_server_stats(GstStructure *st, const std::vector<edge::ServerStats> &servers) {
+  GValue arr = G_VALUE_INIT;
+  gst_value_array_init(&arr, static_cast<guint>(servers.size()));
+  for (const auto &sv : servers) {
+    GValue one = G_VALUE_INIT;
+    g_value_init(&one, GST_TYPE_STRUCTURE);
+    g_value_take_boxed(
+        &one, gst_structure_new("server", "name", G_TYPE_STRING, sv.name.c_str(), "live",
+                                G_TYPE_BOOLEAN, sv.live, "sent", G_TYPE_UINT64, sv.sent, "received",
+                                G_TYPE_UINT64, sv.received, "lost", G_TYPE_UINT64, sv.lost,
+                                "resent", G_TYPE_UINT64, sv.resent, "in-flight", G_TYPE_UINT64,
+                                sv.in_flight, "latency-mean-us", G_TYPE_DOUBLE, sv.latency_mean_us,
+                                "latency-max-us", G_TYPE_DOUBLE, sv.latency_max_us, nullptr));
+    gst_value_array_append_and_take_value(&arr, &one);
+  }
+  gst_structure_take_value(st, "servers", &arr);
 }
 
 std::shared_ptr<QueryServerShared> query_server_get(guint id) {

@@ -7,6 +7,8 @@
 
 #include <gst/gst.h>
 
+#include <chrono>
+
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "core/tensor_info.h"
+#include "edge/edge_pool.h"
 #include "edge/edge_node.h"
 
 G_BEGIN_DECLS
@@ -36,6 +39,10 @@ GstMetaQuery *buffer_get_meta_query(GstBuffer *buf);
 // GEnum "tensor_query_protocol" (TCP=0, HYBRID=2) and "edge_protocol" (TCP=0, MQTT=1,
 // HYBRID=2, CUSTOM=3), nnstreamer-edge's nns_edge_connect_type_e values.
 GType query_connect_type_get_type();
+// tensor_query_client load-balance (values of nns::edge::Balance).
+GType query_load_balance_get_type();
+// Adds "servers", an array of one structure per server of a load-balancing client.
+void add_server_stats(GstStructure *st, const std::vector<edge::ServerStats> &servers);
 GType edge_connect_type_get_type();
 // Throws nns::Error(kSettings) "connect-type X is not supported yet ..." unless TCP or HYBRID.
 void require_tcp(int connect_type);
@@ -71,7 +78,9 @@ struct QueryServerShared {
   std::condition_variable cv;
   std::shared_ptr<edge::ServerNode> node;  // started and stopped by serversrc
   std::deque<edge::Message> requests;      // arrived, not yet pushed by serversrc
+  std::deque<std::chrono::steady_clock::time_point> arrived;  // of each request (batching)
   bool flushing = false;
+  guint max_batch = 1;         // serversrc max-batch: the capability shows one request's caps
   GstPad *src_pad = nullptr;   // serversrc's src pad (its peer gives the accepted caps)
   GstPad *sink_pad = nullptr;  // serversink's sink pad (its peer gives the answer caps)
   std::string capability();    // "@query_server_src_caps@...@query_server_sink_caps@..."

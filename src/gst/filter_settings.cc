@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <strings.h>
+#include <utility>
 
 #include "core/error.h"
 
@@ -181,6 +182,30 @@ FilterOpenSpec make_open_spec(const FilterSettings &s) {
   spec.verbose = !s.silent;
   spec.shared_key = s.shared_key;
   return spec;
+}
+
+std::string *string_setting(FilterSettings &s, std::string_view property) {
+  static constexpr std::pair<std::string_view, std::string FilterSettings::*> kFields[] = {
+      {"framework", &FilterSettings::framework},
+      {"model", &FilterSettings::model},
+      {"input", &FilterSettings::input},
+      {"inputtype", &FilterSettings::inputtype},
+      {"inputname", &FilterSettings::inputname},
+      {"inputlayout", &FilterSettings::inputlayout},
+      {"output", &FilterSettings::output},
+      {"outputtype", &FilterSettings::outputtype},
+      {"outputname", &FilterSettings::outputname},
+      {"outputlayout", &FilterSettings::outputlayout},
+      {"custom", &FilterSettings::custom},
+      {"accelerator", &FilterSettings::accelerator},
+      {"input-combination", &FilterSettings::input_combination},
+      {"output-combination", &FilterSettings::output_combination},
+      {"shared-tensor-filter-key", &FilterSettings::shared_key},
+      {"config-file", &FilterSettings::config_file},
+  };
+  for (const auto &[name, field] : kFields)
+    if (name == property) return &(s.*field);
+  return nullptr;
 }
 
 }  // namespace nns::gst

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/filter_instance.h"
@@ -35,6 +36,10 @@ struct FilterSettings {
 
   bool operator==(const FilterSettings &) const = default;
 };
+
+// The string-valued setting named like its tensor_filter property ("model", "inputtype",
+// "shared-tensor-filter-key", ...); nullptr for other names.
+std::string *string_setting(FilterSettings &s, std::string_view property);
 
 // input-combination="0,2": model inputs are input tensors 0 and 2.
 // output-combination="i0,o0,o2": the output frame is input tensor 0 then model outputs 0 and 2

@@ -43,9 +43,17 @@ bool set_property(Settings &s, guint id, const GValue *value) {
     case kPropIdl:
       s.idl = g_value_get_string(value) ? g_value_get_string(value) : "";
       return true;
-    case kPropHost:
-      s.host = g_value_get_string(value) ? g_value_get_string(value) : "";
+    case kPropHost: {
+      const gchar *h = g_value_get_string(value);
+      if (!h) return true;  // NULL: ignored, as upstream
+      if (g_strcmp0(h, "localhost") == 0 || g_hostname_is_ip_address(h)) {
+        s.host = h;
+        s.refused_host.clear();
+      } else {
+        s.refused_host = h;
+      }
       return true;
+    }
     case kPropPort:
       s.port = g_value_get_int(value);
       return true;
@@ -86,6 +94,11 @@ bool get_property(const Settings &s, guint out, guint id, GValue *value) {
 }
 
 grpclink::LinkOptions link_options(const Settings &s, grpclink::Direction direction) {
+  if (!s.refused_host.empty())
+    fail(ErrorKind::kSettings, "host '" + s.refused_host +
+                                   "' was refused: expected localhost or an IP address (as "
+                                   "NNStreamer); 'host' kept '" +
+                                   s.host + "'");
   grpclink::LinkOptions o;
   o.role = s.server ? grpclink::Role::kServer : grpclink::Role::kClient;
   o.direction = direction;

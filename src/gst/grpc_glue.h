@@ -54,6 +54,9 @@ struct Settings {
   bool blocking = true;
   std::string idl = kDefaultIdl;
   std::string host = kDefaultHost;
+  // A host that is neither "localhost" nor an IP address is refused when set, as NNStreamer
+  // (host keeps its value); starting then fails naming it.
+  std::string refused_host;
   int port = kDefaultPort;
   bool silent = true;
 };

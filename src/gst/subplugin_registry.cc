@@ -52,8 +52,40 @@ bool SubpluginRegistry::remove(std::string_view name) {
       std::find_if(tables_.begin(), tables_.end(), [&](const auto &e) { return e.first == name; });
   if (it == tables_.end()) return false;
   tables_.erase(it);
+  std::erase_if(descs_, [&](const auto &d) { return d.first == name; });
   ++generation_;
   return true;
+}
+
+bool SubpluginRegistry::set_property_descs(std::string_view name, PropertyDescs descs) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  std::erase_if(descs_, [&](const auto &d) { return d.first == name; });
+  if (!lookup_locked(name)) return false;
+  if (!descs.empty()) descs_.emplace_back(std::string(name), std::move(descs));
+  return true;
+}
+
+std::optional<SubpluginRegistry::PropertyDescs> SubpluginRegistry::property_descs(
+    std::string_view name) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  for (const auto &d : descs_)
+    if (d.first == name) return d.second;
+  return std::nullopt;
+}
+
+SubpluginRegistry::PropertyDescs SubpluginRegistry::collect_descs(const char *owner,
+                                                                  const char *prop, va_list ap) {
+  PropertyDescs out;
+  for (const char *p = prop; p; p = va_arg(ap, const char *)) {
+    const char *desc = va_arg(ap, const char *);
+    if (!desc) {
+      g_message("sub-plugin '%s': custom property '%s' has no description: ignored",
+                owner ? owner : "?", p);
+      break;
+    }
+    out.emplace_back(p, desc);
+  }
+  return out;
 }
 
 const void *SubpluginRegistry::lookup_locked(std::string_view name) const {

@@ -10,6 +10,7 @@
 #include <gst/gst.h>
 
 #include <cerrno>
+#include <cstdarg>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -56,6 +57,17 @@ class SubpluginRegistry {
   const std::vector<std::pair<std::string, const void *>> &tables_locked() const { return tables_; }
   unsigned generation() const { return generation_; }  // bumped on every add/remove
 
+  // Custom-property descriptions (nnstreamer_{decoder,converter}_set_custom_property_desc).
+  using PropertyDescs = std::vector<std::pair<std::string, std::string>>;
+  // Replaces those of registered sub-plugin `name`; false (nothing kept) when it is not
+  // registered. An empty list leaves it without descriptions.
+  bool set_property_descs(std::string_view name, PropertyDescs descs);
+  // The descriptions of `name`; nullopt when it has none.
+  std::optional<PropertyDescs> property_descs(std::string_view name);
+  // Collects `prop, desc, prop, desc, ..., NULL` as NNStreamer reads it: the list ends at a NULL
+  // property or at a property without a description (which is dropped, with a warning).
+  static PropertyDescs collect_descs(const char *owner, const char *prop, va_list ap);
+
  private:
   const void *lookup_locked(std::string_view name) const;
   void load_file(const std::string &name, const std::string &path);
@@ -70,6 +82,7 @@ class SubpluginRegistry {
   std::vector<std::string> rejections_;  // why add() refused tables, in order
   const void *scanned_conf_ = nullptr;   // configuration whose folders were last loaded
   unsigned generation_ = 0;
+  std::vector<std::pair<std::string, PropertyDescs>> descs_;
 };
 
 // Application callbacks registered by name (custom-code modes): 0 or -EINVAL, as NNStreamer.

@@ -359,3 +359,31 @@ TEST_F(Lenet, OpenWithOptionKeys) {
 }
 
 }  // namespace
+
+namespace {
+
+// add.tflite (x + 2, float32 [1]) on the tflite back end: opening with other input info,
+// ml_single_set_input_info and ml_single_invoke_dynamic resize the graph.
+TEST_F(MlSingleDynamic, TfliteShapesFollowTheInput) {
+  REQUIRE_BACKEND("tensorflow2-lite");
+  std::string path = shared_models() + "/models/add.tflite";
+  if (shared_models().empty()) GTEST_SKIP() << "../shared/models missing";
+  TensorsInfo in4 = info_of(ML_TENSOR_TYPE_FLOAT32, {{4}});
+  Single opened(path, ML_NNFW_TYPE_TENSORFLOW_LITE, ML_NNFW_HW_ANY, &in4);
+  EXPECT_EQ(opened.output_info().dims(0), std::vector<unsigned>{4});
+  Single model(path, "tensorflow-lite");
+  model.set_input_info(in4);
+  EXPECT_EQ(model.output_info().dims(0), std::vector<unsigned>{4});
+  TensorsData d(in4);
+  for (int i = 0; i < 4; ++i) d.as<float>(0)[i] = static_cast<float>(i);
+  TensorsData o = model.invoke(d);
+  expect_near_all(o.as<float>(0), {2, 3, 4, 5});
+  TensorsInfo in3 = info_of(ML_TENSOR_TYPE_FLOAT32, {{3}});
+  TensorsData d3(in3);
+  for (int i = 0; i < 3; ++i) d3.as<float>(0)[i] = 10.f * static_cast<float>(i);
+  auto r = model.invoke_dynamic(d3, in3);
+  EXPECT_EQ(r.info.dims(0), std::vector<unsigned>{3});
+  expect_near_all(r.data.as<float>(0), {2, 12, 22});
+}
+
+}  // namespace

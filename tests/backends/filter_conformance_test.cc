@@ -27,7 +27,7 @@ void PrintTo(const BackendKind &k, std::ostream *os) {
 
 const BackendKind kBackends[] = {
     {"onnxruntime", "onnx"}, {"opencv", "onnx"},  {"pytorch", "pytorch"},
-    {"python3", "python3"},  {"armnn", "tflite"},
+    {"python3", "python3"},  {"armnn", "tflite"}, {"tensorflow2-lite", "tflite"},
 };
 
 const std::string kModels[] = {"add_mul", "conv_net", "uint8_scale"};

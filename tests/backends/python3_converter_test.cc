@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backends/python3_convdec_util.h"
+#include "gst/converter_registry.h"
 #include "support/harness.h"
 
 namespace {
@@ -238,6 +239,66 @@ TEST(Python3ConverterErrors, IllFormedResults) {
     all.push_back("conv_cases.py");
     expect_error_parts(r, all);
   }
+}
+
+}  // namespace
+
+// --- the sub-plugin table directly, as NNStreamer's tensorConverterPython tests use it -----
+
+namespace {
+
+const NNStreamerExternalConverter *python3_converter() {
+  return nns::gst::ConverterRegistry::instance().find("python3");
+}
+
+// openTwice: the same script again keeps the open one (1); another script replaces it (0).
+TEST(Python3ConverterUpstream, OpenTwice) {
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
+  const NNStreamerExternalConverter *ex = python3_converter();
+  ASSERT_TRUE(ex);
+  void *core = nullptr;
+  const std::string a = script("conv_json.py"), b = script("conv_view.py");
+  EXPECT_EQ(ex->open(a.c_str(), &core), 0);
+  void *first = core;
+  EXPECT_EQ(ex->open(a.c_str(), &core), 1);
+  EXPECT_EQ(core, first);
+  EXPECT_EQ(ex->open(b.c_str(), &core), 0);
+  // The replacement converts: conv_view.py gives a view of the input.
+  GstTensorsConfig config;
+  std::memset(&config, 0, sizeof config);
+  GstBuffer *in = bytes_buffer({1, 2, 3, 4});
+  GstBuffer *out = ex->convert(in, &config, core);
+  EXPECT_TRUE(out);
+  if (out) gst_buffer_unref(out);
+  gst_buffer_unref(in);
+  ex->close(&core);
+  EXPECT_EQ(core, nullptr);
+}
+
+TEST(Python3ConverterUpstream, InvalidParameters) {
+  REQUIRE_PYTHON3_SUBPLUGIN("tensor_converter", "converter");
+  const NNStreamerExternalConverter *ex = python3_converter();
+  ASSERT_TRUE(ex);
+  GstTensorsConfig config;
+  std::memset(&config, 0, sizeof config);
+  // invalidParam2_n / 3_n: get_out_config without caps or without config.
+  EXPECT_FALSE(ex->get_out_config(nullptr, &config));
+  GstCaps *caps = gst_caps_from_string("application/octet-stream");
+  EXPECT_FALSE(ex->get_out_config(caps, nullptr));
+  EXPECT_TRUE(ex->get_out_config(caps, &config));
+  gst_caps_unref(caps);
+  // invalidParam4_n / 5_n: convert without a buffer or without a config.
+  void *core = nullptr;
+  ASSERT_EQ(ex->open(script("conv_json.py").c_str(), &core), 0);
+  EXPECT_EQ(ex->convert(nullptr, &config, core), nullptr);
+  GstBuffer *buf = gst_buffer_new();
+  EXPECT_EQ(ex->convert(buf, nullptr, core), nullptr);
+  gst_buffer_unref(buf);
+  ex->close(&core);
+  // invalidParam6_n: a script without the CustomConverter class does not open.
+  EXPECT_NE(ex->open(script("conv_no_class.py").c_str(), &core), 0);
+  ex->close(&core);
+  // invalidParam_n: a script that does not exist fails the pipeline (see MissingScript).
 }
 
 }  // namespace

@@ -338,3 +338,105 @@ TEST(PoseEstimation, PipelineThroughCompositor) {
                         "fakesink");
   EXPECT_TRUE(r.eos) << r.error_text;
 }
+
+// NNStreamer's pose pipelines: tensor_split, then transpose, then the decoder. Before its input is
+// known, tensor_transform asks the decoder with "other/tensors, format=static, framerate=30/1"
+// (no tensors yet); that is no input to decode, so it must not fail ("0 tensor(s)").
+TEST(PoseEstimation, AfterSplitAndTranspose) {
+  auto r = run_pipeline(
+      "videotestsrc num-buffers=2 ! video/x-raw,format=GRAY8,width=14,height=28 ! "
+      "tensor_converter ! tensor_transform mode=typecast option=float32 ! "
+      "tensor_split name=a tensorseg=1:14:14:1,1:14:14:1 a.src_0 ! queue ! "
+      "tensor_transform mode=transpose option=1:2:0:3 ! "
+      "tensor_decoder mode=pose_estimation option1=320:240 option2=14:14 ! "
+      "video/x-raw,format=RGBA,width=320,height=240 ! fakesink a.src_1 ! queue ! fakesink");
+  EXPECT_TRUE(r.eos) << r.error_text;
+}
+
+// option4=keypoints (MoveNet's [1,1,17,3] output: y, x, score normalized).
+TEST(PoseEstimation, KeypointsModeMoveNetLayout) {
+  std::vector<float> t(17 * 3, 0.0f);
+  auto set = [&](int k, float y, float x, float s) {
+    t[3 * k] = y;
+    t[3 * k + 1] = x;
+    t[3 * k + 2] = s;
+  };
+  set(0, 0.25f, 0.5f, 0.9f);     // nose -> (80, 30) in 160x120
+  set(1, 0.2f, 0.55f, 0.6f);     // leftEye -> (88, 24)
+  set(2, 0.2f, 0.4375f, 0.2f);   // rightEye (70, 24): score 0.2 -> not found
+  set(5, 0.5f, 0.6875f, 0.45f);  // leftShoulder (110, 60): found only with option5=0.4
+  set(16, 1.01f, -0.1f, 0.99f);  // rightAnkle outside: clamped to (0, 119)
+  Result r = run("option1=160:120 option4=keypoints", {t}, "3:17:1:1");
+  ASSERT_EQ(r.w, 160);
+  ASSERT_EQ(r.h, 120);
+  ASSERT_EQ(r.kps.size(), 17u);
+  EXPECT_EQ(r.kps[0].name, "nose");
+  EXPECT_EQ(r.kps[0].x, 80);
+  EXPECT_EQ(r.kps[0].y, 30);
+  EXPECT_TRUE(r.kps[0].found);
+  EXPECT_NEAR(r.kps[0].score, 0.9, 1e-6);
+  EXPECT_EQ(r.kps[1].x, 88);
+  EXPECT_EQ(r.kps[1].y, 24);
+  EXPECT_TRUE(r.kps[1].found);
+  EXPECT_EQ(r.kps[2].x, 70);
+  EXPECT_EQ(r.kps[2].y, 24);
+  EXPECT_FALSE(r.kps[2].found);
+  EXPECT_EQ(r.kps[5].x, 110);
+  EXPECT_EQ(r.kps[5].y, 60);
+  EXPECT_FALSE(r.kps[5].found);
+  EXPECT_EQ(r.kps[16].x, 0);
+  EXPECT_EQ(r.kps[16].y, 119);
+  EXPECT_TRUE(r.kps[16].found);
+  EXPECT_EQ(r.at(80, 30), kYellow);
+  EXPECT_EQ(r.at(88, 24), kYellow);
+  EXPECT_EQ(r.at(70, 24), kClear);  // not found: no dot
+  EXPECT_EQ(r.at(110, 60), kClear);
+  EXPECT_EQ(r.at(0, 119), kYellow);
+  // nose - leftEye is a PoseNet-body connection, but it is inside the dots; the ROI box spans
+  // the found keypoints.
+  EXPECT_EQ(r.rx, 0u);
+  EXPECT_EQ(r.ry, 24u);
+  EXPECT_EQ(r.rw, 89u);
+  EXPECT_EQ(r.rh, 96u);
+
+  // option5 lowers the threshold: the shoulder is found (its PoseNet-body links, rightShoulder,
+  // leftElbow and leftHip, are not: only its dot).
+  Result r2 = run("option1=160:120 option4=keypoints option5=0.4", {t}, "3:17:1:1");
+  ASSERT_EQ(r2.kps.size(), 17u);
+  EXPECT_TRUE(r2.kps[5].found);
+  EXPECT_FALSE(r2.kps[2].found);
+  EXPECT_EQ(r2.at(110, 60), kYellow);
+}
+
+TEST(PoseEstimation, KeypointsModeDrawsLinesWithOption3) {
+  std::string body = write_temp("body.txt", "a 1\nb\n");
+  // Positions are floored: a (0.125 * 100, 0.125 * 50) = (12, 6), b (87, 6).
+  std::vector<float> t = {0.125f, 0.125f, 0.8f, 0.125f, 0.875f, 0.7f};
+  Result r = run("option1=100:50 option4=keypoints option3=" + body, {t}, "3:2:1:1");
+  ASSERT_EQ(r.kps.size(), 2u);
+  EXPECT_EQ(r.kps[0].x, 12);
+  EXPECT_EQ(r.kps[0].y, 6);
+  EXPECT_EQ(r.kps[1].x, 87);
+  EXPECT_EQ(r.kps[1].y, 6);
+  EXPECT_EQ(r.at(50, 6), kWhite);
+  EXPECT_EQ(r.at(50, 7), kClear);
+}
+
+TEST(PoseEstimationErrors, KeypointsModeLayoutChecked) {
+  expect_error(tensor_file_src("2:17:1:1", 2 * 17 * 4) +
+                   "tensor_decoder mode=pose_estimation option1=64:64 option4=keypoints ! fakesink",
+               "tensor 0 (keypoints) must be 3:K:1:1 (y, x, score), got dim0 = 2");
+  expect_error(tensor_file_src("3:5:1:1", 3 * 5 * 4) +
+                   "tensor_decoder mode=pose_estimation option1=64:64 option4=keypoints ! fakesink",
+               "the tensor has 5 keypoints; without option3 only 14 or 17 are known");
+  expect_error(tensor_file_src("3:17:2:1", 3 * 17 * 2 * 4) +
+                   "tensor_decoder mode=pose_estimation option1=64:64 option4=keypoints ! fakesink",
+               "tensor 0 (keypoints) must be 3:K:1:1, got dim2 = 2");
+}
+
+TEST(PoseEstimationErrors, BadOption5) {
+  expect_error(tensor_file_src("3:17:1:1", 3 * 17 * 4) +
+                   "tensor_decoder mode=pose_estimation option1=64:64 option4=keypoints "
+                   "option5=1.5 ! fakesink",
+               "option5: score threshold must be a number in 0..1, got '1.5'");
+}

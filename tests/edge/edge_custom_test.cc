@@ -153,3 +153,68 @@ TEST(EdgeCustom, PublisherCapsRefineAPartialCapsfilter) {
             "pixel-aspect-ratio=(fraction)1/1, interlace-mode=(string)progressive");
   EXPECT_EQ(pub.wait_exit(), 0) << pub.log();
 }
+
+// NNStreamer's edgeCustom.sinkNormal / srcNormal: with only connect-type=CUSTOM and custom-lib
+// (no destination), the pipelines reach PLAYING and run until stopped; without custom-lib or
+// with a library that does not exist they fail to start (sinkInvalidProp*_n, srcInvalidProp*_n).
+namespace {
+
+// PLAYING reached (or, with `live`, still waiting for a first buffer: a live source without
+// data), then ~0.5 s without an error on the bus.
+std::string plays_without_error(const std::string &desc, bool live = false) {
+  GError *err = nullptr;
+  GstElement *p = gst_parse_launch(desc.c_str(), &err);
+  if (!p) {
+    std::string m = err ? err->message : "parse failed";
+    if (err) g_error_free(err);
+    return m;
+  }
+  std::string out;
+  GstStateChangeReturn ret = gst_element_set_state(p, GST_STATE_PLAYING);
+  if (ret != GST_STATE_CHANGE_FAILURE)
+    ret = gst_element_get_state(p, nullptr, nullptr, (live ? 1 : 5) * GST_SECOND);
+  if (ret == GST_STATE_CHANGE_FAILURE) out = "state change failed";
+  if (ret == GST_STATE_CHANGE_ASYNC && !live) out = "PLAYING not reached within 5 s";
+  GstBus *bus = gst_element_get_bus(p);
+  if (GstMessage *m = gst_bus_timed_pop_filtered(bus, 500 * GST_MSECOND, GST_MESSAGE_ERROR)) {
+    GError *e = nullptr;
+    gst_message_parse_error(m, &e, nullptr);
+    out = e ? e->message : "error";
+    if (e) g_error_free(e);
+    gst_message_unref(m);
+  }
+  gst_object_unref(bus);
+  gst_element_set_state(p, GST_STATE_NULL);
+  gst_object_unref(p);
+  return out;
+}
+
+}  // namespace
+
+TEST(EdgeCustomUpstream, SinkAndSrcWithOnlyTheLibraryPlay) {
+  EXPECT_EQ(plays_without_error("videotestsrc ! video/x-raw,width=32,height=24,format=RGB,"
+                                "framerate=10/1 ! tensor_converter ! edgesink connect-type=CUSTOM "
+                                "custom-lib=" +
+                                kLib + " name=sinkx port=0"),
+            "");
+  EXPECT_EQ(plays_without_error("edgesrc connect-type=CUSTOM custom-lib=" + kLib +
+                                    " name=srcx ! other/tensors,num_tensors=1,dimensions=3:32:24:1,"
+                                    "types=uint8,format=static,framerate=30/1 ! tensor_sink",
+                                true),
+            "");
+}
+
+TEST(EdgeCustomUpstream, MissingOrInvalidLibraryFailsToStart) {
+  for (const std::string &lib : {std::string(""), std::string(" custom-lib=libINVALID.so")}) {
+    SCOPED_TRACE(lib);
+    EXPECT_NE(plays_without_error("videotestsrc ! video/x-raw,width=32,height=24,format=RGB,"
+                                  "framerate=10/1 ! tensor_converter ! edgesink "
+                                  "connect-type=CUSTOM name=sinkx port=0" +
+                                  lib),
+              "");
+    EXPECT_NE(plays_without_error("edgesrc connect-type=CUSTOM name=srcx" + lib +
+                                  " ! other/tensors,num_tensors=1,dimensions=3:32:24:1,"
+                                  "types=uint8,format=static,framerate=30/1 ! tensor_sink"),
+              "");
+  }
+}

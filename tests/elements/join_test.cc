@@ -70,6 +70,24 @@ TEST(Join, SinkPadsWithDifferentCapsFailNegotiation) {
   EXPECT_NE(r.error_text.find("sink_1"), std::string::npos) << r.error_text;
 }
 
+// textoverlay first sends video/x-raw(meta:GstVideoOverlayComposition), then (downstream taking
+// no overlay meta) the same caps without the feature. As upstream, join lets the active pad
+// renegotiate and does not count a caps feature as a difference (NNStreamer's early-exit
+// examples use this pattern).
+TEST(Join, TextoverlayTransientCapsAreNotAClash) {
+  GstElementFactory *f = gst_element_factory_find("textoverlay");
+  if (!f) GTEST_SKIP() << "textoverlay missing (Debian gstreamer1.0-x)";
+  gst_object_unref(f);
+  for (int round = 0; round < 5; ++round) {
+    SCOPED_TRACE(round);
+    auto r = nns::test::run_pipeline(
+        "videotestsrc num-buffers=5 ! textoverlay text=hi ! join.sink_0 "
+        "videotestsrc num-buffers=5 ! join.sink_1 join name=join ! fakesink",
+        20);
+    EXPECT_TRUE(r.eos) << (r.timed_out ? "timed out" : r.error_text);
+  }
+}
+
 TEST(Join, UnlinkedAndReleasedPadsDoNotHoldEos) {
   AppPipeline p("appsrc name=a ! join.sink_0 join name=join ! appsink name=out");
   p.set_caps("a", static_caps("2", "uint8"));

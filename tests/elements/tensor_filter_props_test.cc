@@ -155,6 +155,7 @@ TEST(TensorFilterFramework, TfliteAutoUsesFrameworkPriorityTflite) {
   EXPECT_TRUE(r.eos) << r.error_text;
 }
 
+// The tflite names try our back end (tensorflow2-lite) first, then armnn.
 TEST(TensorFilterFramework, TfliteAliasDefaultsToArmnn) {
   ScopedEnv conf("NNSTREAMER_CONF", test_ini());
   std::string model = write_temp("m.tflite", "x");
@@ -163,6 +164,7 @@ TEST(TensorFilterFramework, TfliteAliasDefaultsToArmnn) {
   ASSERT_TRUE(r.error);
   EXPECT_NE(r.error_text.find("framework 'tensorflow-lite' is not available: none of "
                               "libnnstreamer_filter_tensorflow-lite.so, "
+                              "libnnstreamer_filter_tensorflow2-lite.so, "
                               "libnnstreamer_filter_armnn.so in " +
                               filter_dir()),
             std::string::npos)

@@ -147,7 +147,9 @@ TEST(TensorRate, BadFramerateAndVariableInputAreBusErrors) {
       "tensor_converter ! tensor_rate name=rate framerate=ten ! fakesink",
       10);
   ASSERT_TRUE(r.error);
-  EXPECT_NE(r.error_text.find("rate: framerate must be N/D"), std::string::npos) << r.error_text;
+  EXPECT_NE(r.error_text.find("rate: framerate 'ten' was refused: it must be N/D"),
+            std::string::npos)
+      << r.error_text;
   AppPipeline p("appsrc name=src ! tensor_rate name=rate framerate=10/1 ! appsink name=out");
   p.set_caps("src", static_caps("2", "uint8", "0/1"));
   p.push("src", Frame({Bytes{1, 2}}, 0));
@@ -315,4 +317,36 @@ TEST(TensorRate, UpstreamKeepsItsOwnFramerate) {
     EXPECT_EQ(p.frames("out").size(), 11u);  // 0.0 s .. 1.0 s as DownConvert30To10
   }
   EXPECT_EQ(NNS_custom_easy_unregister("rate_pass"), 0);
+}
+
+// NNStreamer's setPropertyInvalidFramerate_n: a malformed framerate is refused when set and the
+// previous value reads back; starting then fails naming the refused text and the kept value.
+TEST(TensorRate, InvalidFramerateIsRefusedWhenSet) {
+  GstElement *rate = gst_element_factory_make("tensor_rate", "rate");
+  ASSERT_TRUE(rate);
+  auto framerate = [&] {
+    gchar *s = nullptr;
+    g_object_get(rate, "framerate", &s, nullptr);
+    std::string out = s ? s : "<NULL>";
+    g_free(s);
+    return out;
+  };
+  EXPECT_EQ(framerate(), "");
+  g_object_set(rate, "framerate", "30/1", nullptr);
+  for (const char *bad : {"ASDF", "10/0", "-1/1", "10/1/2"}) {
+    g_object_set(rate, "framerate", bad, nullptr);
+    EXPECT_EQ(framerate(), "30/1") << bad;
+  }
+  g_object_set(rate, "framerate", "15/1", nullptr);
+  EXPECT_EQ(framerate(), "15/1");
+  gst_object_unref(rate);
+
+  auto r = nns::test::run_pipeline(
+      "videotestsrc num-buffers=3 ! video/x-raw,format=GRAY8,width=4,height=4,framerate=30/1 ! "
+      "tensor_converter ! tensor_rate name=rate framerate=30/1 framerate=10/0 ! fakesink",
+      10);
+  ASSERT_TRUE(r.error);
+  EXPECT_NE(r.error_text.find("rate: framerate '10/0' was refused"), std::string::npos)
+      << r.error_text;
+  EXPECT_NE(r.error_text.find("kept '30/1'"), std::string::npos) << r.error_text;
 }

@@ -368,6 +368,48 @@ TEST(TensorGrpc, SettingsAndDefaults) {
   }
 }
 
+// NNStreamer's srcInvalidHost_n / sinkInvalidHost_n: a host that is neither localhost nor an IP
+// address is refused when set (the previous host reads back); starting then fails naming it.
+TEST(TensorGrpc, InvalidHostIsRefused) {
+  for (const char *factory : {"tensor_src_grpc", "tensor_sink_grpc"}) {
+    SCOPED_TRACE(factory);
+    GstElement *e = gst_element_factory_make(factory, nullptr);
+    ASSERT_TRUE(e);
+    auto host = [&] {
+      gchar *h = nullptr;
+      g_object_get(e, "host", &h, nullptr);
+      std::string out = h ? h : "<NULL>";
+      g_free(h);
+      return out;
+    };
+    g_object_set(e, "host", "invalid host", nullptr);
+    EXPECT_EQ(host(), "localhost");
+    g_object_set(e, "host", "1.1.1.1", nullptr);
+    EXPECT_EQ(host(), "1.1.1.1");
+    g_object_set(e, "host", "::1", nullptr);
+    EXPECT_EQ(host(), "::1");
+    g_object_set(e, "host", "no.such.name", nullptr);
+    EXPECT_EQ(host(), "::1");
+    gst_object_unref(e);
+  }
+  {
+    Pipe rx(rx_desc("port=0 host=\"invalid host\""));
+    rx.play();
+    const std::string err = rx.wait_end();
+    EXPECT_NE(err.find("src: host 'invalid host' was refused"), std::string::npos) << err;
+    EXPECT_NE(err.find("kept '127.0.0.1'"), std::string::npos) << err;
+  }
+  {
+    Pipe tx(tx_desc("port=1 host=bad_host"));
+    set_caps(tx,
+             "other/tensors,format=static,num_tensors=1,types=uint8,dimensions=4,"
+             "framerate=10/1");
+    tx.play();
+    const std::string err = tx.wait_end();
+    EXPECT_NE(err.find("sink: host 'bad_host' was refused"), std::string::npos) << err;
+  }
+}
+
 // idl=flatbuf: a peer whose message does not pass the flatbuffers verifier, and one whose tensor
 // data is short.
 TEST(TensorGrpc, BadFlatbufMessageFromAPeer) {

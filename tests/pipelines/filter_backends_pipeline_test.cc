@@ -55,8 +55,10 @@ class FilterPipeline : public ::testing::Test {
 // filter's output frame is the model outputs one after the other. (A missing .tflite twin is
 // reported by filter_conformance_test.)
 TEST_F(FilterPipeline, GeneratedModelsMatchReference) {
-  const std::pair<const char *, const char *> kinds[] = {
-      {"onnxruntime", "onnx"}, {"opencv", "onnx"}, {"armnn", "tflite"}};
+  const std::pair<const char *, const char *> kinds[] = {{"onnxruntime", "onnx"},
+                                                         {"opencv", "onnx"},
+                                                         {"armnn", "tflite"},
+                                                         {"tensorflow2-lite", "tflite"}};
   for (const auto &[backend, kind] : kinds) {
     if (!std::filesystem::exists(backend_path(backend))) continue;
     for (const char *name : {"add_mul", "conv_net", "uint8_scale"}) {

@@ -43,6 +43,47 @@ std::vector<std::string> launch_commands(const std::string &path) {
   return out;
 }
 
+// The README's paths in `desc`, each rewritten once: `../shared/` to `shared_root`, `/tmp/` outputs
+// to `tmp`, `=build/` to the build tree, `=third_party/` to the source tree's. The replacements
+// are made in one left-to-right pass, so a replacement (a checkout or ../shared lying under /tmp)
+// is never rewritten again.
+std::string rewrite_paths(const std::string &desc, const std::string &shared_root,
+                          const std::string &tmp, const std::string &build_dir,
+                          const std::string &source_dir) {
+  const std::pair<std::string, std::string> rules[] = {
+      {"../shared/", shared_root + "/"},
+      {"location=/tmp/", "location=" + tmp + "/"},
+      {"=build/", "=" + build_dir + "/"},
+      {"=third_party/", "=" + source_dir + "/third_party/"},
+  };
+  std::string out;
+  for (std::size_t i = 0; i < desc.size();) {
+    bool hit = false;
+    for (const auto &[from, to] : rules)
+      if (desc.compare(i, from.size(), from) == 0) {
+        out += to;
+        i += from.size();
+        hit = true;
+        break;
+      }
+    if (!hit) out += desc[i++];
+  }
+  return out;
+}
+
+// A checkout (and so ../shared) under /tmp: its paths are not taken for README outputs.
+TEST(ReadmePipelines, PathsUnderTmpAreRewrittenOnce) {
+  EXPECT_EQ(rewrite_paths("filesrc location=../shared/models/a.png ! filesink "
+                          "location=/tmp/out.raw labels=build/x option=third_party/y",
+                          "/tmp/clone/../shared", "/tmp/nns-xyz", "/tmp/clone/build", "/tmp/clone"),
+            "filesrc location=/tmp/clone/../shared/models/a.png ! filesink "
+            "location=/tmp/nns-xyz/out.raw labels=/tmp/clone/build/x "
+            "option=/tmp/clone/third_party/y");
+  EXPECT_EQ(rewrite_paths("a location=build/l.txt b=third_party/npm/m.onnx", "/s", "/t",
+                          "/tmp/c/build", "/tmp/c"),
+            "a location=/tmp/c/build/l.txt b=/tmp/c/third_party/npm/m.onnx");
+}
+
 TEST(ReadmePipelines, EveryGstLaunchCommandRunsToEos) {
   std::string readme = std::string(NNS_SOURCE_DIR) + "/README.md";
   auto cmds = launch_commands(readme);
@@ -53,17 +94,13 @@ TEST(ReadmePipelines, EveryGstLaunchCommandRunsToEos) {
   std::string tmp = nns::test::make_temp_dir();
   int ran = 0;
   for (std::string desc : cmds) {
-    if (desc.find("../shared/") != std::string::npos) {
-      if (shared_root.empty()) continue;
-      nns::test::replace_all(&desc, "../shared/", shared_root + "/");
-    }
-    nns::test::replace_all(&desc, "location=/tmp/", "location=" + tmp + "/");
-    nns::test::replace_all(&desc, "=build/", "=" + std::string(NNS_BUILD_DIR) + "/");
+    if (desc.find("../shared/") != std::string::npos && shared_root.empty()) continue;
+    const bool fetched_model = desc.find("=third_party/") != std::string::npos;
+    desc = rewrite_paths(desc, shared_root, tmp, NNS_BUILD_DIR, NNS_SOURCE_DIR);
     // Models fetched by scripts/setup.sh (third_party/npm/...) are relative to the source tree;
     // a command needing one that is not fetched is skipped.
-    if (desc.find("=third_party/") != std::string::npos) {
+    if (fetched_model) {
       const std::string root = std::string(NNS_SOURCE_DIR) + "/";
-      nns::test::replace_all(&desc, "=third_party/", "=" + root + "third_party/");
       bool fetched = true;
       for (std::size_t at = desc.find(root + "third_party/"); at != std::string::npos;
            at = desc.find(root + "third_party/", at + 1)) {

@@ -253,8 +253,15 @@ struct Converter {
 
 static_assert(sizeof(tensor_dim) == sizeof(nns_tensor_desc::dims));
 
+// As NNStreamer's: opening the script already open in *priv_data keeps it and returns 1; another
+// script replaces it (the old one is closed) and returns 0.
 int py_open(const gchar *script_path, void **priv_data) {
   if (!priv_data) return -EINVAL;
+  if (auto *old = static_cast<Converter *>(*priv_data)) {
+    if (script_path && old->convert && old->path == script_path) return 1;
+    delete old;
+    *priv_data = nullptr;
+  }
   auto *c = new Converter();
   *priv_data = c;  // also on failure: the host reads the error slot, then calls close
   if (!script_path || !*script_path) {
@@ -296,12 +303,12 @@ GstBuffer *py_convert(GstBuffer *in_buf, GstTensorsConfig *config, void *priv_da
 // The tensors are known only once the script has converted a buffer: no tensors here, which
 // makes tensor_converter set its src caps from the first converted buffer.
 gboolean py_get_out_config(const GstCaps *in_caps, GstTensorsConfig *config) {
-  if (!config) return FALSE;
+  if (!in_caps || !config) return FALSE;  // as NNStreamer's (its invalidParam2_n)
   config->info.num_tensors = 0;
   config->info.format = _NNS_TENSOR_FORMAT_STATIC;
   config->rate_n = 0;
   config->rate_d = 1;
-  if (in_caps && gst_caps_get_size(in_caps) > 0) {
+  if (gst_caps_get_size(in_caps) > 0) {
     const GstStructure *s = gst_caps_get_structure(in_caps, 0);
     if (!gst_structure_get_fraction(s, "framerate", &config->rate_n, &config->rate_d))
       config->rate_n = 0, config->rate_d = 1;

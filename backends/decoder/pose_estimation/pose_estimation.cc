@@ -9,12 +9,15 @@
 // default the heatmap grid; heatmap-offset: the model input size, mandatory). option3: keypoint
 // file, one line per keypoint "<name> <id> <id>..." (ids = connected keypoints); without it a
 // 14-keypoint heatmap uses the 14-point body (top, neck, shoulders, ...) and a 17-keypoint one
-// the COCO/PoseNet body. option4: heatmap-only (default) | heatmap-offset.
+// the COCO/PoseNet body. option4: heatmap-only (default) | heatmap-offset | keypoints.
+// option5 (ours): the score a keypoint needs to be found, 0..1 (default 0.5).
 //
 // Input: tensor 0 float32 or uint8 [K:W:H:1] heatmaps (uint8 is read as value / 255, a score in
 // 0..1, as quantized models output it); heatmap-offset adds tensor 1 float32 [2K:W:H:1]
 // offsets (y offsets in channels 0..K-1, x offsets in K..2K-1, in option2 pixels) and reads the
-// heatmap through a sigmoid. A keypoint is found when its best score is >= 0.5.
+// heatmap through a sigmoid. keypoints (ours, for MoveNet): tensor 0 float32 [3:K:1:1], per
+// keypoint (y, x, score) with y and x normalized to 0..1 of the frame. A keypoint is found when
+// its (best) score is >= option5.
 //
 //   gst-launch-1.0 ... tensor_filter framework=armnn model=posenet.tflite !
 //     tensor_decoder mode=pose_estimation option1=640:480 option2=257:257
@@ -38,9 +41,9 @@
 
 namespace {
 
-enum class Mode { kHeatmapOnly, kHeatmapOffset };
+enum class Mode { kHeatmapOnly, kHeatmapOffset, kKeypoints };
 
-constexpr float kFoundThreshold = 0.5f;
+constexpr float kDefaultFoundThreshold = 0.5f;
 constexpr int kDotRadius = 3;
 constexpr uint8_t kLineRgba[4] = {255, 255, 255, 255};
 constexpr uint8_t kDotRgba[4] = {255, 255, 0, 255};
@@ -61,6 +64,7 @@ struct PoseDecoder {
   unsigned out_w = 0, out_h = 0;
   unsigned in_w = 0, in_h = 0;
   Mode mode = Mode::kHeatmapOnly;
+  float threshold = kDefaultFoundThreshold;
   std::string file;
   std::vector<KeypointDesc> body;  // from option3; empty = default by keypoint count
   std::vector<Keypoint> points;    // scratch, sized at negotiation
@@ -201,12 +205,25 @@ int pe_set_option(void **pdata, int op, const char *param) {
         d->mode = Mode::kHeatmapOnly;
       } else if (v == "heatmap-offset") {
         d->mode = Mode::kHeatmapOffset;
+      } else if (v == "keypoints") {
+        d->mode = Mode::kKeypoints;
       } else {
-        d->err.set("option4: unknown mode '%s'; expected heatmap-only or heatmap-offset",
+        d->err.set("option4: unknown mode '%s'; expected heatmap-only, heatmap-offset or keypoints",
                    v.c_str());
         return FALSE;
       }
       return TRUE;
+    case 4: {
+      char *end = nullptr;
+      errno = 0;
+      float t = std::strtof(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || errno || !(t >= 0.0f && t <= 1.0f)) {
+        d->err.set("option5: score threshold must be a number in 0..1, got '%s'", v.c_str());
+        return FALSE;
+      }
+      d->threshold = t;
+      return TRUE;
+    }
     default:
       return TRUE;
   }
@@ -234,7 +251,46 @@ bool check_map(PoseDecoder *d, const GstTensorInfo &t, unsigned idx, const char 
   return true;
 }
 
+// A body fits k keypoints (k == 0: not known yet). `what` starts the message ("the heatmaps
+// have").
+bool check_body(PoseDecoder *d, unsigned k, const char *what) {
+  if (k && !body_for(d, k)) {
+    d->err.set("%s %u keypoints; without option3 only 14 or 17 are known", what, k);
+    return false;
+  }
+  if (k && !d->body.empty() && k != d->body.size()) {
+    d->err.set("%s %u keypoints, option3 '%s' describes %zu", what, k, d->file.c_str(),
+               d->body.size());
+    return false;
+  }
+  return true;
+}
+
+// keypoints mode: float32 [3:K:1:1] (y, x, score per keypoint).
+bool check_keypoints(PoseDecoder *d, const GstTensorsConfig *config) {
+  if (config->info.num_tensors < 1) {
+    d->err.set("keypoints expects 1 tensor (y, x, score per keypoint), got 0 tensor(s)");
+    return false;
+  }
+  const GstTensorInfo &t = config->info.info[0];
+  if (t.type != _NNS_FLOAT32) {
+    d->err.set("tensor 0 (keypoints) must be float32, got type %d", static_cast<int>(t.type));
+    return false;
+  }
+  if (t.dimension[0] && t.dimension[0] != 3) {
+    d->err.set("tensor 0 (keypoints) must be 3:K:1:1 (y, x, score), got dim0 = %u", t.dimension[0]);
+    return false;
+  }
+  for (unsigned i = 2; i < NNS_TENSOR_RANK_LIMIT && t.dimension[i]; ++i)
+    if (t.dimension[i] != 1) {
+      d->err.set("tensor 0 (keypoints) must be 3:K:1:1, got dim%u = %u", i, t.dimension[i]);
+      return false;
+    }
+  return check_body(d, t.dimension[1], "the tensor has");
+}
+
 bool check_input(PoseDecoder *d, const GstTensorsConfig *config) {
+  if (d->mode == Mode::kKeypoints) return check_keypoints(d, config);
   const bool offset = d->mode == Mode::kHeatmapOffset;
   if (config->info.num_tensors < (offset ? 2u : 1u)) {
     d->err.set("%s expects %s, got %u tensor(s)", offset ? "heatmap-offset" : "heatmap-only",
@@ -245,15 +301,7 @@ bool check_input(PoseDecoder *d, const GstTensorsConfig *config) {
   const GstTensorInfo &heat = config->info.info[0];
   unsigned k = heat.dimension[0];
   if (!check_map(d, heat, 0, "heatmaps", 0, true)) return false;
-  if (k && !body_for(d, k)) {
-    d->err.set("the heatmaps have %u keypoints; without option3 only 14 or 17 are known", k);
-    return false;
-  }
-  if (k && !d->body.empty() && k != d->body.size()) {
-    d->err.set("the heatmaps have %u keypoints, option3 '%s' describes %zu", k, d->file.c_str(),
-               d->body.size());
-    return false;
-  }
+  if (!check_body(d, k, "the heatmaps have")) return false;
   if (offset) {
     const GstTensorInfo &off = config->info.info[1];
     if (!check_map(d, off, 1, "offsets", 2 * k, false)) return false;
@@ -291,6 +339,12 @@ inline float sigmoid(float x) {
   return 1.0f / (1.0f + std::exp(-x));
 }
 
+// Some keypoints land slightly outside the frame: floored and clamped onto it.
+void place(const PoseDecoder *d, Keypoint *p, double px, double py) {
+  p->x = static_cast<int>(std::fmin(std::fmax(std::floor(px), 0.0), d->out_w - 1.0));
+  p->y = static_cast<int>(std::fmin(std::fmax(std::floor(py), 0.0), d->out_h - 1.0));
+}
+
 // Best grid cell per keypoint, then its position in the output frame.
 void locate(PoseDecoder *d, const float *heat, const float *off, unsigned k, unsigned gw,
             unsigned gh) {
@@ -310,7 +364,7 @@ void locate(PoseDecoder *d, const float *heat, const float *off, unsigned k, uns
       }
     Keypoint &p = d->points[kp];
     p.score = offset ? sigmoid(best) : best;
-    p.found = p.score >= kFoundThreshold;
+    p.found = p.score >= d->threshold;
     double px, py;
     if (offset) {
       size_t cell = (static_cast<size_t>(by) * gw + bx) * 2 * k;
@@ -323,9 +377,20 @@ void locate(PoseDecoder *d, const float *heat, const float *off, unsigned k, uns
       px = static_cast<double>(bx) * d->out_w / sw;
       py = static_cast<double>(by) * d->out_h / sh;
     }
-    // Some keypoints land slightly outside the frame: clamp onto it.
-    p.x = static_cast<int>(std::fmin(std::fmax(std::floor(px), 0.0), d->out_w - 1.0));
-    p.y = static_cast<int>(std::fmin(std::fmax(std::floor(py), 0.0), d->out_h - 1.0));
+    place(d, &p, px, py);
+  }
+}
+
+// keypoints mode: (y, x, score) triples, y and x normalized to the frame.
+void locate_keypoints(PoseDecoder *d, const float *yxs, unsigned k) {
+  for (unsigned kp = 0; kp < k; ++kp) {
+    Keypoint &p = d->points[kp];
+    const float *t = yxs + 3 * static_cast<size_t>(kp);
+    p.score = t[2];
+    p.found = p.score >= d->threshold;  // NaN is not found
+    double px = std::isfinite(t[1]) ? static_cast<double>(t[1]) * d->out_w : 0.0;
+    double py = std::isfinite(t[0]) ? static_cast<double>(t[0]) * d->out_h : 0.0;
+    place(d, &p, px, py);
   }
 }
 
@@ -390,10 +455,23 @@ void attach_meta(const PoseDecoder *d, const std::vector<KeypointDesc> &body, Gs
   gst_video_region_of_interest_meta_add_param(m, param);
 }
 
+GstFlowReturn draw(PoseDecoder *d, const std::vector<KeypointDesc> &body, GstBuffer *outbuf);
+
 GstFlowReturn pe_decode(void **pdata, const GstTensorsConfig *config, const GstTensorMemory *input,
                         GstBuffer *outbuf) {
   auto *d = static_cast<PoseDecoder *>(*pdata);
   if (!d->out_w || !check_input(d, config)) return GST_FLOW_NOT_NEGOTIATED;
+  if (d->mode == Mode::kKeypoints) {
+    const unsigned k = config->info.info[0].dimension[1];
+    const size_t need = static_cast<size_t>(k) * 3 * sizeof(float);
+    if (!k || input[0].size < need) {
+      d->err.set("tensor 0 (keypoints) has %zu bytes, expected %zu", input[0].size, need);
+      return GST_FLOW_ERROR;
+    }
+    d->points.resize(k);
+    locate_keypoints(d, static_cast<const float *>(input[0].data), k);
+    return draw(d, *body_for(d, k), outbuf);
+  }
   const GstTensorInfo &heat = config->info.info[0];
   const unsigned k = heat.dimension[0], gw = heat.dimension[1] ? heat.dimension[1] : 1,
                  gh = heat.dimension[2] ? heat.dimension[2] : 1;
@@ -419,10 +497,14 @@ GstFlowReturn pe_decode(void **pdata, const GstTensorsConfig *config, const GstT
     }
     off = static_cast<const float *>(input[1].data);
   }
-  const std::vector<KeypointDesc> &body = *body_for(d, k);
   d->points.resize(k);  // allocates on the first frame only
   locate(d, scores, off, k, gw, gh);
+  return draw(d, *body_for(d, k), outbuf);
+}
 
+// The skeleton of d->points into a new RGBA frame appended to outbuf, and the meta.
+GstFlowReturn draw(PoseDecoder *d, const std::vector<KeypointDesc> &body, GstBuffer *outbuf) {
+  const unsigned k = static_cast<unsigned>(d->points.size());
   const size_t size = static_cast<size_t>(d->out_w) * d->out_h * 4;
   GstMemory *mem = gst_allocator_alloc(nullptr, size, nullptr);
   GstMapInfo map;

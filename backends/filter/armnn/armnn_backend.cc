@@ -15,6 +15,13 @@
 // maps cpu -> CpuRef, cpu.neon/cpu.simd -> CpuAcc, gpu -> GpuAcc (first registered one in the
 // list); with neither, the fastest registered device (CpuAcc, then CpuRef). Unknown custom keys
 // are rejected.
+//
+// Threads: every instance shares one process-wide IRuntime (created on the first open, never
+// destroyed). Arm NN registers its dynamic devices (Debian's CpuRef) when a runtime is created
+// and unregisters them when that runtime is destroyed, so one runtime per instance made a close
+// in one thread pull CpuRef from under an open in another ("CpuRef has no IBackend factory
+// registered"). Each instance loads its own network into the shared runtime and unloads it on
+// close; loads and unloads are serialized.
 #include <armnn/ArmNN.hpp>
 #include <armnn/BackendRegistry.hpp>
 #include <armnnTfLiteParser/ITfLiteParser.hpp>
@@ -68,6 +75,32 @@ void configure_logging_once() {
   std::call_once(once, [] { armnn::ConfigureLogging(true, false, armnn::LogSeverity::Fatal); });
 }
 
+// The one runtime of the process. Created once (its creation loads and registers the dynamic
+// devices) and deliberately never destroyed: destroying it would unregister the devices under
+// any other user, and the registry is a static of libarmnn whose destruction order at exit is
+// not ours. Throws FilterError when Arm NN cannot create it (retried on the next open).
+armnn::IRuntime &shared_runtime() {
+  static std::mutex mu;
+  static armnn::IRuntime *runtime = nullptr;
+  std::lock_guard lk(mu);
+  if (!runtime) {
+    configure_logging_once();
+    try {
+      runtime = armnn::IRuntime::CreateRaw(armnn::IRuntime::CreationOptions());
+    } catch (const std::exception &e) {
+      throw FilterError(prefix() + "cannot create the Arm NN runtime: " + e.what(), -EIO);
+    }
+    if (!runtime) throw FilterError(prefix() + "cannot create the Arm NN runtime", -EIO);
+  }
+  return *runtime;
+}
+
+// Serializes LoadNetwork/UnloadNetwork on the shared runtime.
+std::mutex &load_mutex() {
+  static std::mutex mu;
+  return mu;
+}
+
 std::string registered_backends() {
   std::vector<std::string> ids;
   for (const armnn::BackendId &id : armnn::BackendRegistryInstance().GetBackendIds())
@@ -96,11 +129,7 @@ class ArmnnBackend final : public FilterBackend {
     configure_logging_once();
     path_ = backend::single_model_path(props, kName);
     std::string forced = parse_options(props);
-    try {
-      runtime_ = armnn::IRuntime::Create(armnn::IRuntime::CreationOptions());  // loads devices
-    } catch (const std::exception &e) {
-      throw FilterError(prefix() + "cannot create the Arm NN runtime: " + e.what(), -EIO);
-    }
+    runtime_ = &shared_runtime();  // registers the devices before choose_devices looks
     std::vector<armnn::BackendId> devices = choose_devices(props, forced);
     armnn::INetworkPtr network{nullptr, nullptr};
     try {
@@ -136,6 +165,7 @@ class ArmnnBackend final : public FilterBackend {
         throw std::runtime_error("optimization failed" + (why.empty() ? "" : ": " + why));
       }
       std::string err;
+      std::lock_guard lk(load_mutex());
       if (runtime_->LoadNetwork(net_id_, std::move(opt), err) != armnn::Status::Success)
         throw std::runtime_error("LoadNetwork failed" + (err.empty() ? "" : ": " + err));
       loaded_ = true;
@@ -147,7 +177,9 @@ class ArmnnBackend final : public FilterBackend {
   }
 
   ~ArmnnBackend() override {
-    if (loaded_ && runtime_) runtime_->UnloadNetwork(net_id_);
+    if (!loaded_) return;
+    std::lock_guard lk(load_mutex());
+    runtime_->UnloadNetwork(net_id_);
   }
 
   bool model_info(nns_tensors_desc &in, nns_tensors_desc &out) override {
@@ -308,7 +340,7 @@ class ArmnnBackend final : public FilterBackend {
   }
 
   std::string path_;
-  armnn::IRuntimePtr runtime_{nullptr, &armnn::IRuntime::Destroy};
+  armnn::IRuntime *runtime_ = nullptr;  // the shared one, not owned
   armnn::NetworkId net_id_ = 0;
   bool loaded_ = false;
   std::vector<armnn::BindingPointInfo> in_bind_, out_bind_;
@@ -326,12 +358,13 @@ int check_accelerator(const char *accl) {
   if (a == "default" || a == "auto" || a == "none") return 0;
   std::string dev = device_for(a);
   if (dev.empty()) return -ENOENT;
-  // Devices are registered while a runtime that loaded them lives: keep one (never freed).
-  static armnn::IRuntime *probe = [] {
-    configure_logging_once();
-    return armnn::IRuntime::CreateRaw(armnn::IRuntime::CreationOptions());
-  }();
-  return probe && is_registered(dev) ? 0 : -ENODEV;
+  // Devices are registered while a runtime that loaded them lives: the shared one does.
+  try {
+    shared_runtime();
+  } catch (const FilterError &) {
+    return -ENODEV;
+  }
+  return is_registered(dev) ? 0 : -ENODEV;
 }
 
 }  // namespace

@@ -8,25 +8,9 @@
 #include <string>
 #include <vector>
 
-namespace nns::onnx {
+#include "../common/onnx_types.h"
 
-// ONNX TensorProto.DataType numbering.
-enum ElemType : int32_t {
-  kUndefined = 0,
-  kFloat = 1,
-  kUInt8 = 2,
-  kInt8 = 3,
-  kUInt16 = 4,
-  kInt16 = 5,
-  kInt32 = 6,
-  kInt64 = 7,
-  kString = 8,
-  kBool = 9,
-  kFloat16 = 10,
-  kDouble = 11,
-  kUInt32 = 12,
-  kUInt64 = 13,
-};
+namespace nns::onnx {
 
 struct ValueInfo {
   std::string name;

@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "../common/backend_common.h"
+#include "core/filter_accl.h"
 #include "nnstreamer/nns_filter_backend.hh"
 #include "pytorch_stats.h"
 
@@ -310,58 +311,61 @@ class TorchBackend final : public FilterBackend {
   };
 
   void apply_options(const nns_filter_props &props) {
-    // accelerator=: gpu needs a CUDA build with a device; cpu and generic names mean CPU.
-    backend::AcceleratorRequest acc = backend::parse_accelerator(props.accelerator);
-    bool want_gpu = false;
-    // What NNStreamer's pytorch sub-plugin reports: the accelerator taken from the list, "none"
-    // when none was asked for (or none the back end knows).
-    const char *accl = "none";
-    if (acc.enabled) {
-      for (const std::string &a : acc.wanted) {
-        if (a == "gpu") {
-          if (at::hasCUDA()) {
-            want_gpu = true;
-            accl = "gpu";
-            break;
-          }
-          continue;  // try the next accelerator in the list
-        }
-        if (a == "cpu" || a == "cpu.simd" || a == "default" || a == "auto") {
-          accl = "cpu";
-          break;
-        }
-        if (a == "none") break;
-      }
-      bool only_gpu =
-          !acc.wanted.empty() && std::all_of(acc.wanted.begin(), acc.wanted.end(),
-                                             [](const std::string &a) { return a == "gpu"; });
-      if (only_gpu && !want_gpu)
-        throw FilterError(prefix() + "accelerator=" + props.accelerator +
-                              " asks for a GPU, but this libtorch has no usable CUDA device; "
-                              "use accelerator=true:gpu,cpu to fall back to the CPU",
-                          -ENODEV);
-    }
+    // custom= first; its errors are reported after the accelerator line below, which NNStreamer
+    // prints at every open whatever follows.
     int threads = props.num_threads;
-    for (const backend::CustomOption &o : backend::parse_custom(props.custom, kName)) {
-      if (backend::iequals(o.key, "use_gpu")) {
-        want_gpu = backend::parse_bool_option(kName, o);
-        if (want_gpu && !at::hasCUDA())
-          throw FilterError(prefix() + "custom option use_gpu:" + o.value +
-                                " asks for a GPU, but this libtorch has no usable CUDA device",
-                            -ENODEV);
-      } else if (backend::iequals(o.key, "NumThreads")) {
-        threads = static_cast<int>(backend::parse_int_option(kName, o, 0, 1024));
-      } else if (backend::iequals(o.key, "OptimizeForInference")) {
-        optimize_ = backend::parse_bool_option(kName, o);
-      } else {
-        throw FilterError(prefix() + "unknown custom option '" + o.key +
-                          "' (known: use_gpu, NumThreads, OptimizeForInference)");
+    std::optional<bool> custom_gpu;
+    std::optional<FilterError> custom_error;
+    try {
+      for (const backend::CustomOption &o : backend::parse_custom(props.custom, kName)) {
+        if (backend::iequals(o.key, "use_gpu")) {
+          custom_gpu = backend::parse_bool_option(kName, o);
+        } else if (backend::iequals(o.key, "NumThreads")) {
+          threads = static_cast<int>(backend::parse_int_option(kName, o, 0, 1024));
+        } else if (backend::iequals(o.key, "OptimizeForInference")) {
+          optimize_ = backend::parse_bool_option(kName, o);
+        } else {
+          throw FilterError(prefix() + "unknown custom option '" + o.key +
+                            "' (known: use_gpu, NumThreads, OptimizeForInference)");
+        }
       }
+    } catch (const FilterError &e) {
+      custom_error = e;
+    }
+    // accelerator= read as NNStreamer's pytorch sub-plugin reads it (parse_accl_hw with cpu and
+    // gpu supported): unset gives cpu, "true:..." the first of cpu/gpu it names (none: cpu),
+    // anything else none (NNStreamer then reads [pytorch] enable_use_gpu, not read here).
+    static const char *const kSupported[] = {"cpu", "gpu", nullptr};
+    const char *asked = props.accelerator && *props.accelerator ? props.accelerator : nullptr;
+    accl_hw hw = nns::accl::parse(asked, kSupported, nullptr, nullptr);
+    bool want_gpu = hw == ACCL_GPU;
+    if (custom_gpu) {
+      want_gpu = *custom_gpu;
+      hw = want_gpu ? ACCL_GPU : ACCL_CPU;
+    }
+    // Without a usable CUDA device, a list that also names cpu falls back to it (ours).
+    const backend::AcceleratorRequest acc = backend::parse_accelerator(props.accelerator);
+    const bool cpu_listed =
+        std::find(acc.wanted.begin(), acc.wanted.end(), "cpu") != acc.wanted.end();
+    if (want_gpu && !custom_gpu && cpu_listed && !at::hasCUDA()) {
+      want_gpu = false;
+      hw = ACCL_CPU;
+    }
+    // The line NNStreamer's pytorch sub-plugin prints at every open (scripts grep for it).
+    g_message("gpu = %d, accl = %s", want_gpu ? 1 : 0, nns::accl::name_of(hw));
+    if (custom_error) throw *custom_error;
+    if (want_gpu && !at::hasCUDA()) {
+      if (custom_gpu)
+        throw FilterError(prefix() +
+                              "custom option use_gpu:true asks for a GPU, but this libtorch "
+                              "has no usable CUDA device",
+                          -ENODEV);
+      throw FilterError(prefix() + "accelerator=" + props.accelerator +
+                            " asks for a GPU, but this libtorch has no usable CUDA device; "
+                            "use accelerator=true:gpu,cpu to fall back to the CPU",
+                        -ENODEV);
     }
     device_ = want_gpu ? at::Device(at::kCUDA) : at::Device(at::kCPU);
-    if (want_gpu) accl = "gpu";  // custom use_gpu:true
-    // silent=false: the line NNStreamer's pytorch sub-plugin prints (it does so always).
-    if (props.verbose) g_message("gpu = %d, accl = %s", want_gpu ? 1 : 0, accl);
     threads_ = threads;
     apply_threads();
   }

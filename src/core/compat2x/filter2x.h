@@ -46,6 +46,8 @@ class Filter2xRegistry {
   // The registered entry `name`, or nullptr.
   const Filter2x *find(const std::string &name);
   std::vector<std::string> names();
+  // The entry whose bridge table is `iface`, or nullptr (iface is one of our back ends).
+  const Filter2x *of_bridge(const nns_filter_backend_i *iface);
   // Records where `name` came from (the file whose constructor registered it).
   void set_origin(const std::string &name, const std::string &origin);
 
@@ -77,6 +79,11 @@ class Filter2xRegistry {
 // Fills entry.iface (the bridge table) and binds it to a free slot; false when every slot is
 // taken (filter2x_bridge.cc).
 bool bind_bridge(Filter2x &entry);
+// Our back end `b` as a version-1 NNStreamer 2.x table (backend_as_2x.cc): made on first use,
+// valid for the life of the process. `asked` (the name or alias looked up) is remembered so
+// that open(prop) with prop->fwname == asked finds the table.
+const GstTensorFilterFramework *framework_of_backend(const nns_filter_backend_i *b,
+                                                     const std::string &asked);
 // Number of bridge slots (distinct 2.x tables registered over the life of the process).
 constexpr int kBridgeSlots = 64;
 

@@ -128,6 +128,9 @@ int bridge_open(const Filter2x &f, const nns_filter_props *p, void **priv, char 
   c->props = std::make_unique<CompatProps>(*p);
   GstTensorFilterProperties *prop = c->props->get();
   prop->fw_opened = 0;
+  // As NNStreamer: the name the sub-plugin registered (framework= may be an alias or auto).
+  // C++ sub-plugins find their table again through nnstreamer_filter_find(prop->fwname).
+  prop->fwname = f.name.c_str();
   if (f.version == 1) {
     c->hw = parse_accelerators(f, p->accelerator);
     prop->hw_list = c->hw.empty() ? nullptr : c->hw.data();

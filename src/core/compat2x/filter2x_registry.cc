@@ -123,6 +123,13 @@ const Filter2x *Filter2xRegistry::find(const std::string &name) {
   return nullptr;
 }
 
+const Filter2x *Filter2xRegistry::of_bridge(const nns_filter_backend_i *iface) {
+  std::lock_guard lk(mu_);
+  for (auto &e : entries_)
+    if (&e->iface == iface) return e.get();
+  return nullptr;
+}
+
 std::vector<std::string> Filter2xRegistry::names() {
   std::lock_guard lk(mu_);
   std::vector<std::string> out;
@@ -209,7 +216,18 @@ __attribute__((visibility("default"))) const GstTensorFilterFramework *nnstreame
   try {
     auto conf = nns::current_filter_conf();
     const nns::compat2x::Filter2x *f = nns::FilterRegistry::get().find_2x(name, *conf);
-    return f ? f->fw : nullptr;
+    if (f) return f->fw;
+    // One of our back ends (or an alias of one), seen as a version-1 table.
+    nns::BackendRef ref;
+    try {
+      ref = nns::FilterRegistry::get().resolve(name, {}, *conf);
+    } catch (...) {
+      return nullptr;
+    }
+    if (!ref) return nullptr;
+    if (const auto *bridged = nns::compat2x::Filter2xRegistry::get().of_bridge(ref.iface))
+      return bridged->fw;
+    return nns::compat2x::framework_of_backend(ref.iface, name);
   } catch (...) {
     return nullptr;
   }

@@ -292,7 +292,11 @@ void Device::setup_trigger() {
   std::string tname;
   if (!s_.trigger.empty()) {
     for (const auto &e : list_dir(s_.base_dir)) {
-      if (numbered(e, "trigger") < 0 || !is_file(s_.base_dir + "/" + e + "/name")) continue;
+      // "triggerN" as the kernel names it; "iio:triggerN" as NNStreamer's tests (and element)
+      // name it.
+      if ((numbered(e, "trigger") < 0 && numbered(e, "iio:trigger") < 0) ||
+          !is_file(s_.base_dir + "/" + e + "/name"))
+        continue;
       if (read_attr(s_.base_dir + "/" + e + "/name") == s_.trigger) tname = s_.trigger;
     }
     if (tname.empty())
@@ -300,6 +304,9 @@ void Device::setup_trigger() {
                                      s_.base_dir + " (no triggerN/name holds that name)");
   } else {
     std::string p = s_.base_dir + "/trigger" + std::to_string(s_.trigger_number) + "/name";
+    const std::string upstream_p =
+        s_.base_dir + "/iio:trigger" + std::to_string(s_.trigger_number) + "/name";
+    if (!is_file(p) && is_file(upstream_p)) p = upstream_p;
     if (!is_file(p))
       fail(ErrorKind::kNotFound, "trigger-number: no IIO trigger " +
                                      std::to_string(s_.trigger_number) + " (" + p +
@@ -319,8 +326,10 @@ void Device::setup_frequency() {
   uint64_t current = 0;
   if (is_file(cur)) {
     old_frequency_ = read_attr(cur);
-    // Some drivers report a fractional rate ("100.000000"): take the integer part.
-    current = static_cast<uint64_t>(parse_float(*old_frequency_, cur));
+    // Some drivers report a fractional rate ("100.000000"): take the integer part. An empty file
+    // (NNStreamer's test trees) means unknown.
+    if (!old_frequency_->empty())
+      current = static_cast<uint64_t>(parse_float(*old_frequency_, cur));
   }
   uint64_t f = s_.frequency;
   if (is_file(avail)) {

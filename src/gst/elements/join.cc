@@ -4,9 +4,11 @@
  *
  * N-to-1 join: every buffer arriving on any request pad sink_%u is forwarded on src in arrival
  * order (no merging). When a different pad becomes active, its sticky events (segment, ...)
- * go downstream first. As upstream's join, every sink pad must carry the same caps: a CAPS event
- * that differs from the caps another sink pad already has is refused (negotiation fails, with a
- * bus error naming both pads and both caps). EOS goes
+ * go downstream first. As upstream's join, the sink pads must carry the same caps: a CAPS event
+ * that differs from the caps of the active pad (the first sink pad before any buffer) is refused
+ * (negotiation fails, with a bus error naming both pads and both caps), while the active pad
+ * itself may renegotiate; caps features are ignored (textoverlay's transient
+ * video/x-raw(meta:GstVideoOverlayComposition)). EOS goes
  * out once every linked sink pad has ended; releasing a pad re-checks that. Not tensor
  * specific. Read-only properties: n-pads, active-pad.
  *
@@ -109,14 +111,51 @@ static GstFlowReturn join_chain(GstPad *pad, GstObject *parent, GstBuffer *buf) 
   return gst_pad_push(self->srcpad, buf);
 }
 
-// The first other sink pad whose current caps differ from `caps`, with those caps (or nullptr).
-static std::pair<GstPad *, GstCaps *> other_caps_differing(JoinPriv *p, GstPad *pad,
-                                                           GstCaps *caps) {
+// Caps equal once their features (memory:..., meta:...) are set aside: textoverlay first offers
+// video/x-raw(meta:GstVideoOverlayComposition), then the same caps without the feature.
+static bool same_caps_but_features(GstCaps *a, GstCaps *b) {
+  if (gst_caps_is_equal(a, b)) return true;
+  auto plain = [](GstCaps *c) {
+    GstCaps *out = gst_caps_copy(c);
+    for (guint i = 0; i < gst_caps_get_size(out); ++i) gst_caps_set_features(out, i, nullptr);
+    return nns::gst::CapsPtr(out);
+  };
+  nns::gst::CapsPtr pa = plain(a), pb = plain(b);
+  return gst_caps_is_equal(pa.get(), pb.get());
+}
+
+// The pad upstream's join compares caps against: the active pad, or the first sink pad while no
+// buffer went out yet. Caller holds p->lock.
+static GstPad *reference_pad(GstJoin *self, JoinPriv *p) {
+  if (p->active) return p->active;
+  GstPad *first = nullptr;
+  GST_OBJECT_LOCK(self);
+  if (GST_ELEMENT(self)->sinkpads) first = GST_PAD(GST_ELEMENT(self)->sinkpads->data);
+  GST_OBJECT_UNLOCK(self);
+  return first;
+}
+
+// The sink pad (with its caps, owned) whose caps `caps` arriving on `pad` contradict, or nullptr.
+// As upstream, caps are checked against the reference pad only, and that pad itself may
+// renegotiate. A pad's first caps, while the reference pad has none, are checked against every
+// other pad's caps. Features are ignored (transient caps such as textoverlay's).
+static std::pair<GstPad *, GstCaps *> caps_clash(GstJoin *self, JoinPriv *p, GstPad *pad,
+                                                 GstCaps *caps) {
+  GstPad *ref = reference_pad(self, p);
+  GstCaps *ref_caps = ref && ref != pad ? gst_pad_get_current_caps(ref) : nullptr;
+  if (ref_caps) {
+    if (same_caps_but_features(ref_caps, caps)) {
+      gst_caps_unref(ref_caps);
+      return {nullptr, nullptr};
+    }
+    return {ref, ref_caps};
+  }
+  if (ref == pad && gst_pad_has_current_caps(pad)) return {nullptr, nullptr};  // renegotiation
   for (auto &[other, eos] : p->eos) {
     if (other == pad) continue;
     GstCaps *have = gst_pad_get_current_caps(other);
     if (!have) continue;
-    if (!gst_caps_is_equal(have, caps)) return {other, have};
+    if (!same_caps_but_features(have, caps)) return {other, have};
     gst_caps_unref(have);
   }
   return {nullptr, nullptr};
@@ -132,7 +171,7 @@ static gboolean join_sink_event(GstPad *pad, GstObject *parent, GstEvent *event)
     std::pair<GstPad *, GstCaps *> clash;
     {
       std::lock_guard<std::mutex> l(p->lock);
-      clash = other_caps_differing(p, pad, caps);
+      clash = caps_clash(self, p, pad, caps);
     }
     if (clash.first) {
       nns::gst::CapsPtr have(clash.second);

@@ -16,11 +16,14 @@
 #include <gst/base/gstadapter.h>
 
 #include <atomic>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 
 #include "core/error.h"
 #include "core/tensor_concat.h"
+#include "gst/edge_glue.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
@@ -54,7 +57,21 @@ struct AggPriv {
   nns::AggregatorConfig active;  // settings when the caps were set
   std::optional<nns::AggregatorPlan> plan;
   int rate_n = -1, rate_d = -1;
-  GstAdapter *adapter = nullptr;
+  // One adapter per client (the GstMetaQuery client id a tensor_query server puts on each
+  // buffer; 0 without one), as NNStreamer: frames of different clients are never mixed.
+  struct AdapterUnref {
+    void operator()(GstAdapter *a) const { g_object_unref(a); }
+  };
+  std::map<int64_t, std::unique_ptr<GstAdapter, AdapterUnref>> adapters;
+
+  GstAdapter *adapter_for(GstBuffer *buf) {
+    const GstMetaQuery *meta = nns::gst::buffer_get_meta_query(buf);
+    const int64_t key = meta ? meta->client_id : 0;
+    auto &a = adapters[key];
+    if (!a) a.reset(gst_adapter_new());
+    return a.get();
+  }
+  void clear_all() { adapters.clear(); }
 };
 
 enum {
@@ -105,7 +122,7 @@ bool on_caps(GstTensorAggregator *self, GstCaps *caps) {
   GstCaps *fixed = gst_caps_fixate(peer.release());
   bool ok = gst_pad_set_caps(self->srcpad, fixed);
   gst_caps_unref(fixed);
-  gst_adapter_clear(p->adapter);
+  p->clear_all();
   return ok;
 }
 
@@ -161,13 +178,17 @@ GstFlowReturn aggregate(GstTensorAggregator *self, GstBuffer *buf) {
   GstClockTime duration = GST_BUFFER_DURATION(buf);
   if (GST_CLOCK_TIME_IS_VALID(duration))
     duration = gst_util_uint64_scale_int(duration, cfg.frames_out, cfg.frames_in);
-  gst_adapter_push(p->adapter, buf);
+  const GstMetaQuery *meta = nns::gst::buffer_get_meta_query(buf);
+  const bool has_client = meta != nullptr;
+  const int64_t client = meta ? meta->client_id : 0;
+  GstAdapter *adapter = p->adapter_for(buf);
+  gst_adapter_push(adapter, buf);
   GstFlowReturn ret = GST_FLOW_OK;
   gsize avail;
-  while (ret == GST_FLOW_OK && (avail = gst_adapter_available(p->adapter)) >= plan.out_size) {
+  while (ret == GST_FLOW_OK && (avail = gst_adapter_available(adapter)) >= plan.out_size) {
     guint64 pts_dist = 0, dts_dist = 0;
-    GstClockTime pts = gst_adapter_prev_pts(p->adapter, &pts_dist);
-    GstClockTime dts = gst_adapter_prev_dts(p->adapter, &dts_dist);
+    GstClockTime pts = gst_adapter_prev_pts(adapter, &pts_dist);
+    GstClockTime dts = gst_adapter_prev_dts(adapter, &dts_dist);
     // Frames inside one input buffer are spaced by the caps frame rate (as upstream).
     if (cfg.frames_in > 1 && p->rate_n > 0 && p->rate_d > 0) {
       guint64 den = static_cast<guint64>(p->rate_n) * plan.frame_size;
@@ -176,13 +197,16 @@ GstFlowReturn aggregate(GstTensorAggregator *self, GstBuffer *buf) {
       if (GST_CLOCK_TIME_IS_VALID(dts))
         dts += gst_util_uint64_scale(dts_dist * p->rate_d, GST_SECOND, den);
     }
-    GstBuffer *out = gst_adapter_get_buffer(p->adapter, plan.out_size);
+    GstBuffer *out = gst_adapter_get_buffer(adapter, plan.out_size);
     out = gst_buffer_make_writable(out);
     GST_BUFFER_PTS(out) = pts;
     GST_BUFFER_DTS(out) = dts;
     GST_BUFFER_DURATION(out) = duration;
+    // The output goes back to the client whose frames it holds.
+    if (has_client && !nns::gst::buffer_get_meta_query(out))
+      nns::gst::buffer_add_meta_query(out, client);
     ret = push_out(self, out);
-    gst_adapter_flush(p->adapter, std::min<gsize>(plan.flush_size, avail));
+    gst_adapter_flush(adapter, std::min<gsize>(plan.flush_size, avail));
   }
   return ret;
 }
@@ -205,7 +229,7 @@ static gboolean gst_tensor_aggregator_sink_event(GstPad *pad, GstObject *parent,
       return ok;
     }
     case GST_EVENT_FLUSH_STOP:
-      gst_adapter_clear(self->priv->adapter);
+      self->priv->clear_all();
       break;
     default:
       break;
@@ -219,7 +243,7 @@ static GstStateChangeReturn gst_tensor_aggregator_change_state(GstElement *eleme
   GstStateChangeReturn ret =
       GST_ELEMENT_CLASS(gst_tensor_aggregator_parent_class)->change_state(element, transition);
   if (transition == GST_STATE_CHANGE_PAUSED_TO_READY) {
-    gst_adapter_clear(self->priv->adapter);
+    self->priv->clear_all();
     self->priv->plan.reset();
   }
   return ret;
@@ -283,7 +307,6 @@ static void gst_tensor_aggregator_get_property(GObject *object, guint id, GValue
 
 static void gst_tensor_aggregator_finalize(GObject *object) {
   AggPriv *p = GST_TENSOR_AGGREGATOR(object)->priv;
-  g_object_unref(p->adapter);
   delete p;
   G_OBJECT_CLASS(gst_tensor_aggregator_parent_class)->finalize(object);
 }
@@ -332,7 +355,6 @@ static void gst_tensor_aggregator_class_init(GstTensorAggregatorClass *klass) {
 
 static void gst_tensor_aggregator_init(GstTensorAggregator *self) {
   self->priv = new AggPriv();
-  self->priv->adapter = gst_adapter_new();
   self->sinkpad = gst_pad_new_from_static_template(&sink_template, "sink");
   gst_pad_set_chain_function(self->sinkpad, gst_tensor_aggregator_chain);
   gst_pad_set_event_function(self->sinkpad, gst_tensor_aggregator_sink_event);

@@ -277,6 +277,10 @@ static GstCaps *out_caps_for(DecoderPriv *p, const GstStructure *s) {
     cfg = p->flex_cfg;
   } else if (cfg.info.format != nns::TensorFormat::kStatic) {
     return gst_caps_new_empty();
+  } else if (cfg.info.size() == 0 || !cfg.info.valid()) {
+    // Static tensors not described yet, e.g. "other/tensors, format=static, framerate=30/1":
+    // what tensor_transform mode=transpose asks downstream with before its input is known.
+    return gst_caps_new_any();
   }
   nns::CTensorsConfig c(cfg);
   GstCaps *caps = p->def->getOutCaps(&p->pdata, c.get());

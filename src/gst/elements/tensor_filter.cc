@@ -67,6 +67,9 @@ struct FilterPriv {
 
   std::mutex info_mu;  // snapshots for get_property
   nns::TensorsInfo in_info, out_info;
+  // The framework framework=auto chose when the model was opened (read back as `framework`,
+  // as NNStreamer); cleared when framework or model change.
+  std::string chosen_framework;
 
   // suspend=
   std::thread suspend_thread;
@@ -211,6 +214,10 @@ static void gst_tensor_filter_set_property(GObject *object, guint id, const GVal
       const gchar *v = g_value_get_string(value);
       std::string nv = v ? v : "";
       if (id == PROP_FRAMEWORK && nv.empty()) nv = "auto";
+      if ((id == PROP_FRAMEWORK || id == PROP_MODEL) && nv != *str) {
+        std::lock_guard ilk(p->info_mu);
+        p->chosen_framework.clear();
+      }
       if (id == PROP_MODEL && s.is_updatable && nv != s.model) {
         reload = true;
         new_model = nv;
@@ -272,6 +279,8 @@ static void set_info_string(GValue *value, const nns::TensorsInfo &info, const s
                               : info.names_string();
   g_value_set_string(value, s.c_str());
 }
+
+static std::string framework_readback(FilterPriv *p, const FilterSettings &s);
 
 static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *value,
                                            GParamSpec *pspec) {
@@ -367,6 +376,9 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
     case PROP_SUSPEND:
       g_value_set_uint(value, s.suspend_ms);
       break;
+    case PROP_FRAMEWORK:
+      g_value_set_string(value, framework_readback(p, s).c_str());
+      break;
     default:
       if (std::string *str = string_prop(s, id)) {
         g_value_set_string(value, str->c_str());
@@ -413,9 +425,36 @@ static void start_async(GstTensorFilter *self) {
 static void update_info_snapshot(GstTensorFilter *self) {
   FilterPriv *p = self->priv;
   nns::TensorsInfo in = p->engine.current_input(), out = p->engine.current_output();
+  std::string chosen = p->engine.is_open() ? p->engine.instance()->name() : std::string();
   std::lock_guard lk(p->info_mu);
   p->in_info = std::move(in);
   p->out_info = std::move(out);
+  if (!chosen.empty()) p->chosen_framework = std::move(chosen);
+}
+
+static bool is_auto_framework(const std::string &fw) {
+  return fw.empty() || g_ascii_strcasecmp(fw.c_str(), "auto") == 0;
+}
+
+// What `framework` reads back: the name given, or for framework=auto the framework chosen when
+// the model was opened, else the one the model's extension selects now (NNStreamer detects it
+// when the properties are set), else "auto".
+static std::string framework_readback(FilterPriv *p, const FilterSettings &s) {
+  if (!is_auto_framework(s.framework)) return s.framework;
+  {
+    std::lock_guard lk(p->info_mu);
+    if (!p->chosen_framework.empty()) return p->chosen_framework;
+  }
+  if (s.model.empty()) return s.framework;
+  try {
+    auto conf = nns::current_filter_conf();
+    nns::BackendRef be =
+        nns::FilterRegistry::get().resolve("auto", nns::gst::split_models(s.model), *conf);
+    if (be.iface && be.iface->name) return be.iface->name;
+  } catch (const std::exception &) {
+    // No framework for this model (yet): start() reports why.
+  }
+  return s.framework;
 }
 
 static void stop_suspend_thread(FilterPriv *p) {

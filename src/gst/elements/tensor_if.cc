@@ -18,6 +18,7 @@
  *     else=SKIP  tif.src_0 ! queue ! tensor_sink
  */
 #include <memory>
+#include <atomic>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -76,6 +77,9 @@ struct State {
 struct IfPriv {
   std::mutex lock;  // guards settings
   Settings settings;
+  // compared-value(-option), operator or supplied-value changed while streaming: the condition is
+  // rebuilt before the next buffer (as NNStreamer, which reads them per buffer).
+  std::atomic<bool> condition_changed{false};
   std::unique_ptr<State> state;  // streaming thread
 };
 
@@ -271,6 +275,15 @@ static GstFlowReturn tensor_if_chain(GstPad *, GstObject *parent, GstBuffer *buf
   return nns::gst::guard(self, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     auto &st = self->priv->state;
     if (!st) nns::fail(nns::ErrorKind::kNegotiation, "buffer before caps");
+    if (self->priv->condition_changed.exchange(false) && st->cond) {
+      Settings s;
+      {
+        std::lock_guard<std::mutex> l(self->priv->lock);
+        s = self->priv->settings;
+      }
+      if (s.cv != Compared::kCustom)
+        st->cond.emplace(s.cv, s.cv_option, s.op, nns::tif::parse_supplied_value(s.sv), st->in);
+    }
     nns::gst::check_static_buffer(buf, st->in);
     bool result;
     {
@@ -330,12 +343,15 @@ static void gst_tensor_if_set_property(GObject *object, guint id, const GValue *
       break;
     case PROP_CV_OPTION:
       s.cv_option = str();
+      self->priv->condition_changed = true;
       break;
     case PROP_OP:
       s.op = static_cast<Op>(g_value_get_enum(value));
+      self->priv->condition_changed = true;
       break;
     case PROP_SV:
       s.sv = str();
+      self->priv->condition_changed = true;
       break;
     case PROP_THEN:
       s.act[0] = static_cast<Action>(g_value_get_enum(value));

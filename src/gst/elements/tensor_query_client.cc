@@ -24,6 +24,8 @@
 #include <mutex>
 #include <vector>
 
+#include "edge/edge_pool.h"
+
 #include "gst/edge_glue.h"
 #include "gst/edge_props.h"
 #include "gst/element_glue.h"
@@ -50,6 +52,8 @@ struct Settings {
   nns::gst::ConnSettings conn;  // timeout: ms to wait for an answer (0: no wait)
   guint max_request = 2;
   bool silent = true;
+  gint balance = 0;  // nns::edge::Balance
+  bool resend = true;
 };
 
 // Timestamps of a request, given to its answer (answers come back in request order).
@@ -57,6 +61,7 @@ struct Pending {
   GstClockTime pts, dts, duration;
   guint64 offset, offset_end;
   std::chrono::steady_clock::time_point sent;
+  guint64 seq = 0;  // load-balance mode: the request's number
 };
 
 struct ClientPriv {
@@ -64,7 +69,9 @@ struct ClientPriv {
   Settings s;
 
   // Session (streaming thread, except where noted).
-  std::unique_ptr<nns::edge::ClientNode> node;
+  std::unique_ptr<nns::edge::ClientNode> node;  // one server (load-balance=none)
+  std::unique_ptr<nns::edge::ClientPool> pool;  // several servers (load balancing)
+  bool answer_caps_set = false;                 // pool: the first server set the answer caps
   std::string in_caps;
   bool in_tensor = false;
   bool out_tensor = false;
@@ -80,6 +87,10 @@ struct ClientPriv {
   std::condition_variable qcv;
   std::deque<nns::edge::Message> answers;
   std::deque<Pending> pending;  // requests in flight, oldest first
+  // Load-balance mode: requests not yet answered in input order (seqs contiguous), answers
+  // and losses that arrived out of order. Resolved ones at the front move to answers/pending.
+  nns::edge::InOrder<Pending> lb;
+  guint64 next_seq = 0;
   bool flushing = false;
   std::string closed_why;  // set by the node thread when the session ends
   bool closed = false;
@@ -89,7 +100,15 @@ struct ClientPriv {
   guint64 sent = 0, received = 0, dropped = 0, lost_count = 0, reconnects = 0;
 };
 
-enum { PROP_0, PROP_SILENT, PROP_MAX_REQUEST, PROP_STATS, PROP_CONN_FIRST };
+enum {
+  PROP_0,
+  PROP_SILENT,
+  PROP_MAX_REQUEST,
+  PROP_STATS,
+  PROP_LOAD_BALANCE,
+  PROP_RESEND,
+  PROP_CONN_FIRST
+};
 
 const nns::gst::ConnPropTable &conn_props() {
   using nns::gst::ConnProp;
@@ -184,13 +203,23 @@ std::optional<std::string> check_server_caps(GstTensorQueryClient *self, const s
   if (!out || gst_caps_is_empty(out.get()))
     return "cannot parse the server's answer caps '" + *sink + "'";
   if (gst_caps_is_any(out.get())) out.reset(gst_caps_from_string(p->in_caps.c_str()));
+  if (p->answer_caps_set) {  // another server of the pool: its answers must be the same
+    nns::gst::CapsPtr have(gst_caps_from_string(p->out_candidates.c_str()));
+    if (!have || !gst_caps_can_intersect(out.get(), have.get()))
+      return "its answer caps '" + caps_str(out.get()) + "' differ from the other servers' '" +
+             p->out_candidates + "'";
+    return std::nullopt;
+  }
   p->out_candidates = caps_str(out.get());
   if (!gst_caps_is_fixed(out.get())) {
     p->out_pending = true;
+    p->answer_caps_set = p->pool != nullptr;
     return std::nullopt;
   }
   p->out_pending = false;
-  return push_out_caps(self, out.get());
+  auto err = push_out_caps(self, out.get());
+  p->answer_caps_set = p->pool != nullptr && !err;
+  return err;
 }
 
 // Unfixed answer caps (a server whose tensor_filter announces every shape it can produce):
@@ -241,6 +270,49 @@ std::optional<std::string> push_out_caps(GstTensorQueryClient *self, GstCaps *ou
   return std::nullopt;
 }
 
+void post_info(GstTensorQueryClient *self, const std::string &text);
+
+// Load-balance mode: resolved requests at the front of lb move to answers/pending (where
+// push_answers takes them); lost ones are counted.
+void promote_locked(ClientPriv *p) {
+  p->lb.pop_ready(
+      [p](Pending &pd, nns::edge::Message &&m) {
+        p->answers.push_back(std::move(m));
+        p->pending.push_back(pd);
+      },
+      [p](Pending &) { ++p->lost_count; });
+}
+
+void make_pool(GstTensorQueryClient *self, const Settings &s, const nns::edge::NodeOptions &o) {
+  auto *p = self->priv;
+  nns::edge::PoolOptions po;
+  po.node = o;
+  po.type = s.conn.type();
+  if (po.type == nns::edge::ConnectType::kTcp)
+    po.endpoints = nns::edge::parse_endpoints(o.dest_host, o.dest_port);
+  po.policy = static_cast<nns::edge::Balance>(s.balance);
+  po.resend = s.resend;
+  nns::edge::PoolCallbacks cb;
+  cb.alloc = nns::gst::gst_memory_allocator();
+  cb.on_answer = [p](guint64 seq, nns::edge::Message &&m) {
+    std::lock_guard<std::mutex> l(p->qlock);
+    if (!p->lb.answer(seq, std::move(m))) return;
+    promote_locked(p);
+    p->qcv.notify_all();
+  };
+  cb.on_lost = [p](guint64 seq) {
+    std::lock_guard<std::mutex> l(p->qlock);
+    if (!p->lb.lose(seq)) return;
+    promote_locked(p);
+    p->qcv.notify_all();
+  };
+  cb.on_warning = [self](const std::string &text) { NNS_POST_WARNING(self, text); };
+  cb.on_info = [self](const std::string &text) { post_info(self, text); };
+  cb.accept_caps = [self](const std::string &cap) { return check_server_caps(self, cap); };
+  p->answer_caps_set = false;
+  p->pool = std::make_unique<nns::edge::ClientPool>(std::move(po), std::move(cb));
+}
+
 void make_node(GstTensorQueryClient *self, int timeout_ms) {
   auto *p = self->priv;
   Settings s;
@@ -251,6 +323,10 @@ void make_node(GstTensorQueryClient *self, int timeout_ms) {
   nns::gst::require_tcp(s.conn.connect_type);
   nns::edge::NodeOptions o = s.conn.node_options(nns::edge::Role::kQueryClient);
   o.connect_timeout_ms = timeout_ms;
+  if (s.balance != 0 ||
+      (s.conn.type() == nns::edge::ConnectType::kTcp &&
+       o.dest_host.find_first_of(",:") != std::string::npos))  // a list, or host:port
+    return make_pool(self, s, o);
   nns::edge::NodeCallbacks cb;
   cb.alloc = nns::gst::gst_memory_allocator();
   cb.on_data = [p](nns::edge::Message &&m) {
@@ -364,12 +440,58 @@ bool try_reconnect(GstTensorQueryClient *self) {
   return true;
 }
 
+// Load-balance mode: the window (max-request) full, waits up to `timeout` for the oldest
+// answer; then sends to the server the pool picks and pushes the answers ready in input order.
+GstFlowReturn chain_pool(GstTensorQueryClient *self, GstBuffer *buf) {
+  auto *p = self->priv;
+  guint max_request, timeout;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    max_request = p->s.max_request;
+    timeout = p->s.conn.timeout;
+  }
+  auto in_flight = [p] { return p->lb.size() + p->pending.size(); };
+  if (max_request > 0 && timeout > 0) {
+    std::unique_lock<std::mutex> l(p->qlock);
+    p->qcv.wait_for(l, std::chrono::milliseconds(timeout), [&] {
+      return in_flight() < max_request || !p->answers.empty() || p->flushing;
+    });
+  }
+  GstFlowReturn ret = push_answers(self, 0);
+  if (ret != GST_FLOW_OK) return ret;
+  guint64 seq;
+  {
+    std::lock_guard<std::mutex> l(p->qlock);
+    if (max_request > 0 && in_flight() >= max_request) {
+      ++p->dropped;
+      return GST_FLOW_OK;
+    }
+    seq = p->next_seq++;
+    p->lb.add(seq, {GST_BUFFER_PTS(buf), GST_BUFFER_DTS(buf), GST_BUFFER_DURATION(buf),
+                    GST_BUFFER_OFFSET(buf), GST_BUFFER_OFFSET_END(buf), Clock::now(), seq});
+  }
+  auto view = std::make_shared<nns::gst::FrameView>(buf, p->in_tensor);
+  std::shared_ptr<const nns::edge::OutFrame> frame(view, &view->frame());
+  const bool ok = p->pool->submit(seq, std::move(frame));
+  {
+    std::lock_guard<std::mutex> l(p->qlock);
+    if (ok) {
+      ++p->sent;
+    } else if (p->lb.lose(seq)) {  // no server connected now
+      promote_locked(p);
+    }
+  }
+  return push_answers(self, 0);
+}
+
 GstFlowReturn client_chain(GstPad *, GstObject *parent, GstBuffer *buf) {
   auto *self = GST_TENSOR_QUERY_CLIENT(parent);
   nns::gst::BufferPtr in(buf);
   return nns::gst::guard(self, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     auto *p = self->priv;
-    if (!p->node) nns::fail(nns::ErrorKind::kNegotiation, "a buffer arrived before caps");
+    if (!p->node && !p->pool)
+      nns::fail(nns::ErrorKind::kNegotiation, "a buffer arrived before caps");
+    if (p->pool) return chain_pool(self, buf);
     guint max_request, timeout;
     {
       std::lock_guard<std::mutex> l(p->lock);
@@ -422,16 +544,19 @@ void drain(GstTensorQueryClient *self) {
     {
       std::unique_lock<std::mutex> l(p->qlock);
       p->qcv.wait_until(l, deadline, [&] {
-        return p->flushing || p->closed || p->answers.size() >= p->pending.size();
+        return p->flushing || p->closed ||
+               (p->lb.size() == 0 && p->answers.size() >= p->pending.size());
       });
     }
     if (push_answers(self, 0) != GST_FLOW_OK) return;
     std::lock_guard<std::mutex> l(p->qlock);
-    if (p->pending.empty() || p->flushing || p->closed || Clock::now() >= deadline) {
-      if (!p->pending.empty() && !p->flushing) {
-        p->lost_count += p->pending.size();
-        GST_WARNING_OBJECT(self, "EOS: %zu answer(s) never came", p->pending.size());
+    const std::size_t left = p->pending.size() + p->lb.size();
+    if (left == 0 || p->flushing || p->closed || Clock::now() >= deadline) {
+      if (left && !p->flushing) {
+        p->lost_count += left;
+        GST_WARNING_OBJECT(self, "EOS: %zu answer(s) never came", left);
         p->pending.clear();
+        p->lb.clear();
       }
       return;
     }
@@ -449,12 +574,18 @@ gboolean client_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
         gst_event_parse_caps(ev.get(), &caps);
         const std::string s = caps_str(caps);
         if (p->node && s == p->in_caps && p->node->connected()) return TRUE;
+        if (p->pool && s == p->in_caps && p->pool->live() > 0) return TRUE;
         p->in_caps = s;
         p->in_tensor = nns::gst::is_tensor_caps(caps);
         if (p->node) p->node->disconnect();
+        p->node.reset();
+        p->pool.reset();
         make_node(self, 5000);
         try {
-          p->node->connect();
+          if (p->pool)
+            p->pool->start();
+          else
+            p->node->connect();
         } catch (const nns::Error &e) {
           if (e.kind() == nns::ErrorKind::kNegotiation) throw;
           nns::fail(nns::ErrorKind::kNotFound,
@@ -485,6 +616,7 @@ gboolean client_sink_event(GstPad *pad, GstObject *parent, GstEvent *event) {
       p->flushing = false;
       p->answers.clear();
       p->pending.clear();
+      p->lb.clear();
       break;
     }
     default:
@@ -508,12 +640,14 @@ GstStateChangeReturn client_change_state(GstElement *element, GstStateChange t) 
     p->protocol_error = false;
     p->answers.clear();
     p->pending.clear();
+    p->lb.clear();
     p->sent = p->received = p->dropped = p->lost_count = p->reconnects = 0;
   }
   GstStateChangeReturn ret =
       GST_ELEMENT_CLASS(gst_tensor_query_client_parent_class)->change_state(element, t);
   if (t == GST_STATE_CHANGE_PAUSED_TO_READY) {
     p->node.reset();  // joins the connection threads
+    p->pool.reset();
     p->in_caps.clear();
     p->out_pending = false;
     for (GstEvent *e : p->held) gst_event_unref(e);
@@ -522,6 +656,7 @@ GstStateChangeReturn client_change_state(GstElement *element, GstStateChange t) 
     std::lock_guard<std::mutex> l(p->qlock);
     p->answers.clear();
     p->pending.clear();
+    p->lb.clear();
   }
   return ret;
 }
@@ -539,6 +674,12 @@ static void client_set_property(GObject *object, guint id, const GValue *value, 
     case PROP_MAX_REQUEST:
       p->s.max_request = g_value_get_uint(value);
       break;
+    case PROP_LOAD_BALANCE:
+      p->s.balance = g_value_get_enum(value);
+      break;
+    case PROP_RESEND:
+      p->s.resend = g_value_get_boolean(value);
+      break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
@@ -547,12 +688,15 @@ static void client_set_property(GObject *object, guint id, const GValue *value, 
 static void client_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_TENSOR_QUERY_CLIENT(object)->priv;
   if (id == PROP_STATS) {
+    std::vector<nns::edge::ServerStats> servers;
+    if (p->pool) servers = p->pool->stats();
     std::lock_guard<std::mutex> l(p->qlock);
-    g_value_take_boxed(
-        value, gst_structure_new("application/x-query-client-stats", "sent", G_TYPE_UINT64, p->sent,
-                                 "received", G_TYPE_UINT64, p->received, "dropped", G_TYPE_UINT64,
-                                 p->dropped, "lost", G_TYPE_UINT64, p->lost_count, "reconnects",
-                                 G_TYPE_UINT64, p->reconnects, nullptr));
+    GstStructure *st = gst_structure_new(
+        "application/x-query-client-stats", "sent", G_TYPE_UINT64, p->sent, "received",
+        G_TYPE_UINT64, p->received, "dropped", G_TYPE_UINT64, p->dropped, "lost", G_TYPE_UINT64,
+        p->lost_count, "reconnects", G_TYPE_UINT64, p->reconnects, nullptr);
+    if (p->pool) nns::gst::add_server_stats(st, servers);
+    g_value_take_boxed(value, st);
     return;
   }
   std::lock_guard<std::mutex> l(p->lock);
@@ -563,6 +707,12 @@ static void client_get_property(GObject *object, guint id, GValue *value, GParam
       break;
     case PROP_MAX_REQUEST:
       g_value_set_uint(value, p->s.max_request);
+      break;
+    case PROP_LOAD_BALANCE:
+      g_value_set_enum(value, p->s.balance);
+      break;
+    case PROP_RESEND:
+      g_value_set_boolean(value, p->s.resend);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -596,6 +746,19 @@ static void gst_tensor_query_client_class_init(GstTensorQueryClientClass *klass)
                         "the input buffer is dropped. Two buffers are requested by default, and 0 "
                         "means that all buffers are sent to query server without drop. ",
                         0, G_MAXUINT, 2, rw));
+  g_object_class_install_property(
+      gobject, PROP_LOAD_BALANCE,
+      g_param_spec_enum("load-balance", "Load balance",
+                        "How requests are spread over the servers (HYBRID: every server announcing "
+                        "the topic; TCP: the comma-separated dest-host list): none uses one server "
+                        "and fails over, round-robin, least-outstanding",
+                        nns::gst::query_load_balance_get_type(), 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_RESEND,
+      g_param_spec_boolean("resend-on-failover", "Resend on fail-over",
+                           "With load balancing: requests in flight to a server that goes away "
+                           "are sent once more to another server (false: counted as lost)",
+                           TRUE, rw));
   g_object_class_install_property(
       gobject, PROP_STATS,
       g_param_spec_boxed("stats", "Statistics",

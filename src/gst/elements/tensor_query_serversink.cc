@@ -21,6 +21,7 @@
 #include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
+#include "gst/query_batch.h"
 #include "gst/tensor_caps.h"
 
 GST_DEBUG_CATEGORY_STATIC(query_serversink_debug);
@@ -181,6 +182,32 @@ static GstFlowReturn serversink_render(GstBaseSink *bsink, GstBuffer *buf) {
     }
     nns::gst::FrameView view(buf, p->tensor_caps);
     std::string why;
+    guint slots = 0;
+    const auto clients = nns::gst::buffer_get_batch_meta(buf, &slots);
+    if (!clients.empty()) {  // a batch (serversrc max-batch): slot i answers clients[i]
+      const auto &mems = view.frame().mems;
+      for (const auto &m : mems)
+        if (slots == 0 || m.size % slots != 0 || clients.size() > slots)
+          nns::fail(nns::ErrorKind::kStream,
+                    "a batched answer of " + std::to_string(m.size) +
+                        " bytes cannot be split into " + std::to_string(slots) +
+                        " slots: the model's outputs must keep the batch as outermost dimension");
+      for (std::size_t i = 0; i < clients.size(); ++i) {
+        nns::edge::OutFrame f;
+        f.meta = view.frame().meta;
+        for (const auto &m : mems) {
+          const std::size_t part = m.size / slots;
+          f.mems.push_back({static_cast<const uint8_t *>(m.data) + i * part, part});
+        }
+        if (node->send_to(clients[i], f, &why)) {
+          ++p->sent;
+        } else {
+          ++p->dropped;
+          GST_INFO_OBJECT(bsink, "answer dropped: %s", why.c_str());
+        }
+      }
+      return GST_FLOW_OK;
+    }
     if (node->send_to(meta->client_id, view.frame(), &why)) {
       ++p->sent;
     } else {

@@ -18,13 +18,18 @@
  */
 #include <gst/base/gstpushsrc.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstring>
+#include <vector>
 #include <mutex>
 
 #include "gst/edge_glue.h"
 #include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
+#include "gst/query_batch.h"
 #include "gst/tensor_caps.h"
 
 GST_DEBUG_CATEGORY_STATIC(query_serversrc_debug);
@@ -41,16 +46,31 @@ namespace {
 struct Settings {
   nns::gst::ConnSettings conn;
   guint id = 0;
+  guint max_batch = 1;
+  guint64 batch_timeout_us = 0;
 };
+
+using Clock = std::chrono::steady_clock;
 
 struct ServerSrcPriv {
   std::mutex lock;  // settings
   Settings s;
   std::shared_ptr<nns::gst::QueryServerShared> shared;
   std::atomic<guint64> received{0};
+  // Batching (streaming thread): per-slot byte sizes of each tensor, from the caps.
+  std::vector<std::size_t> slot;
+  std::atomic<guint64> batches{0}, batched{0}, refused{0};
 };
 
-enum { PROP_0, PROP_ID, PROP_IS_LIVE, PROP_CONN_FIRST };
+enum {
+  PROP_0,
+  PROP_ID,
+  PROP_IS_LIVE,
+  PROP_MAX_BATCH,
+  PROP_BATCH_TIMEOUT,
+  PROP_STATS,
+  PROP_CONN_FIRST
+};
 
 const nns::gst::ConnPropTable &conn_props() {
   using nns::gst::ConnProp;
@@ -99,6 +119,12 @@ static void serversrc_set_property(GObject *object, guint id, const GValue *valu
     case PROP_IS_LIVE:
       gst_base_src_set_live(GST_BASE_SRC(object), g_value_get_boolean(value));
       break;
+    case PROP_MAX_BATCH:
+      p->s.max_batch = g_value_get_uint(value);
+      break;
+    case PROP_BATCH_TIMEOUT:
+      p->s.batch_timeout_us = g_value_get_uint64(value);
+      break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
@@ -106,6 +132,14 @@ static void serversrc_set_property(GObject *object, guint id, const GValue *valu
 
 static void serversrc_get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   auto *p = GST_TENSOR_QUERY_SERVERSRC(object)->priv;
+  if (id == PROP_STATS) {
+    g_value_take_boxed(
+        value, gst_structure_new("application/x-query-serversrc-stats", "received", G_TYPE_UINT64,
+                                 p->received.load(), "batches", G_TYPE_UINT64, p->batches.load(),
+                                 "batched", G_TYPE_UINT64, p->batched.load(), "refused",
+                                 G_TYPE_UINT64, p->refused.load(), nullptr));
+    return;
+  }
   std::lock_guard<std::mutex> l(p->lock);
   if (conn_props().get(id, value, p->s.conn)) return;
   switch (id) {
@@ -114,6 +148,12 @@ static void serversrc_get_property(GObject *object, guint id, GValue *value, GPa
       break;
     case PROP_IS_LIVE:
       g_value_set_boolean(value, gst_base_src_is_live(GST_BASE_SRC(object)));
+      break;
+    case PROP_MAX_BATCH:
+      g_value_set_uint(value, p->s.max_batch);
+      break;
+    case PROP_BATCH_TIMEOUT:
+      g_value_set_uint64(value, p->s.batch_timeout_us);
       break;
     default:
       G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
@@ -137,7 +177,9 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
         nns::fail(nns::ErrorKind::kSettings,
                   "another tensor_query_serversrc already serves id " + std::to_string(s.id));
       shared->requests.clear();
+      shared->arrived.clear();
       shared->flushing = false;
+      shared->max_batch = std::max(1u, s.max_batch);
       gst_object_replace(reinterpret_cast<GstObject **>(&shared->src_pad),
                          GST_OBJECT(GST_BASE_SRC_PAD(bsrc)));
     }
@@ -149,6 +191,7 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
       if (auto sh = weak.lock()) {
         std::lock_guard<std::mutex> l(sh->lock);
         sh->requests.push_back(std::move(m));
+        sh->arrived.push_back(Clock::now());
         sh->cv.notify_all();
       }
     };
@@ -172,6 +215,7 @@ static gboolean serversrc_start(GstBaseSrc *bsrc) {
     }
     p->shared = shared;
     p->received = 0;
+    p->batches = p->batched = p->refused = 0;
     return TRUE;
   });
 }
@@ -190,6 +234,8 @@ static gboolean serversrc_stop(GstBaseSrc *bsrc) {
   {
     std::lock_guard<std::mutex> l(p->shared->lock);
     p->shared->requests.clear();
+    p->shared->arrived.clear();
+    p->shared->max_batch = 1;
     gst_object_replace(reinterpret_cast<GstObject **>(&p->shared->src_pad), nullptr);
   }
   p->shared.reset();
@@ -215,11 +261,203 @@ static gboolean serversrc_unlock_stop(GstBaseSrc *bsrc) {
   return TRUE;
 }
 
+namespace {
+
+int64_t client_of(const nns::edge::Message &m) {
+  const auto id_str = m.meta.get("client_id");
+  return id_str ? g_ascii_strtoll(id_str->c_str(), nullptr, 10) : 0;
+}
+
+// max-batch > 1: the caps downstream must hold batches of max-batch (outermost dimension);
+// a model with a fixed batch of 1 cannot, and is named.
+// The element that takes the batches, for messages: the first one downstream with a `model`
+// property (past capsfilters and queues), with its model file and input tensors.
+std::string downstream_model(GstBaseSrc *bsrc) {
+  std::string first;
+  GstPad *pad = GST_PAD(gst_object_ref(GST_BASE_SRC_PAD(bsrc)));
+  for (int hop = 0; hop < 8 && pad; ++hop) {
+    GstPad *peer = gst_pad_get_peer(pad);
+    gst_object_unref(pad);
+    pad = nullptr;
+    if (!peer) break;
+    GstElement *e = gst_pad_get_parent_element(peer);
+    gst_object_unref(peer);
+    if (!e) break;
+    if (first.empty()) first = GST_ELEMENT_NAME(e);
+    if (g_object_class_find_property(G_OBJECT_GET_CLASS(e), "model")) {
+      gchar *model = nullptr, *names = nullptr, *dims = nullptr;
+      g_object_get(e, "model", &model, nullptr);
+      if (g_object_class_find_property(G_OBJECT_GET_CLASS(e), "inputname"))
+        g_object_get(e, "inputname", &names, "input", &dims, nullptr);
+      std::string out = std::string(GST_ELEMENT_NAME(e)) + " (model '" + (model ? model : "") +
+                        "'" + (names && *names ? std::string(", input '") + names + "'" : "") +
+                        (dims && *dims ? std::string(" ") + dims : "") + ")";
+      g_free(model);
+      g_free(names);
+      g_free(dims);
+      gst_object_unref(e);
+      return out;
+    }
+    GstIterator *it = gst_element_iterate_src_pads(e);
+    GValue v = G_VALUE_INIT;
+    if (e->numsrcpads == 1 && gst_iterator_next(it, &v) == GST_ITERATOR_OK) {
+      pad = GST_PAD(gst_object_ref(g_value_get_object(&v)));
+      g_value_unset(&v);
+    }
+    gst_iterator_free(it);
+    gst_object_unref(e);
+  }
+  if (pad) gst_object_unref(pad);
+  return first.empty() ? std::string("the element after it") : first;
+}
+
+gboolean serversrc_set_caps(GstBaseSrc *bsrc, GstCaps *caps) {
+  return nns::gst::guard(bsrc, FALSE, [&]() -> gboolean {
+    auto *p = GST_TENSOR_QUERY_SERVERSRC(bsrc)->priv;
+    guint n;
+    {
+      std::lock_guard<std::mutex> l(p->lock);
+      n = p->s.max_batch;
+    }
+    p->slot.clear();
+    if (n <= 1) return TRUE;
+    if (auto why = nns::gst::batch_caps_problem(caps, n)) {
+      const std::string who = downstream_model(bsrc);
+      nns::fail(nns::ErrorKind::kNegotiation,
+                "max-batch=" + std::to_string(n) + ": the input of " + who +
+                    " cannot take a batch: " + *why +
+                    "; use max-batch=1, or a model whose batch dimension is " + std::to_string(n) +
+                    " or free (then give it with the caps or input=)");
+    }
+    p->slot = nns::gst::slot_sizes(nns::gst::config_from_caps(caps).info, n);
+    return TRUE;
+  });
+}
+
+// The source's template is ANY, so GstBaseSrc does not negotiate by itself (the capsfilter
+// after it gives the caps to the stream). With max-batch > 1 the caps must be known here:
+// take downstream's, fixated; set_caps checks them.
+gboolean serversrc_negotiate(GstBaseSrc *bsrc) {
+  auto *p = GST_TENSOR_QUERY_SERVERSRC(bsrc)->priv;
+  guint n;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    n = p->s.max_batch;
+  }
+  if (n <= 1) return GST_BASE_SRC_CLASS(gst_tensor_query_serversrc_parent_class)->negotiate(bsrc);
+  return nns::gst::guard(bsrc, FALSE, [&]() -> gboolean {
+    nns::gst::CapsPtr caps(gst_pad_peer_query_caps(GST_BASE_SRC_PAD(bsrc), nullptr));
+    if (!caps || gst_caps_is_empty(caps.get()) || gst_caps_is_any(caps.get()))
+      nns::fail(nns::ErrorKind::kNegotiation,
+                "max-batch=" + std::to_string(n) + ": the input of " + downstream_model(bsrc) +
+                    " cannot take a batch: the caps after tensor_query_serversrc must give it "
+                    "(static tensors whose outermost dimension is " +
+                    std::to_string(n) + "), got '" +
+                    (caps ? nns::gst::caps_to_string(caps.get()) : std::string("none")) +
+                    "'; use max-batch=1, or a model whose batch dimension is " + std::to_string(n) +
+                    " or free (then give it with the caps or input=)");
+    caps.reset(gst_caps_fixate(caps.release()));
+    return gst_base_src_set_caps(bsrc, caps.get());
+  });
+}
+
+// True when the request's memories fit the batch slots.
+bool fits(const std::vector<std::size_t> &slot, const nns::edge::Message &m) {
+  if (m.mems.size() != slot.size()) return false;
+  for (std::size_t i = 0; i < slot.size(); ++i)
+    if (m.mems[i]->size() != slot[i]) return false;
+  return true;
+}
+
+// Up to max-batch requests: the first waiting one, then those that arrive until
+// batch-timeout after it arrived (or the batch is full). Requests that do not fit the slots
+// are dropped with a warning (they would not fit the caps either).
+GstFlowReturn take_batch(GstTensorQueryServerSrc *self, std::vector<nns::edge::Message> *batch) {
+  auto *p = self->priv;
+  auto sh = p->shared;
+  guint n;
+  guint64 timeout_us;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    n = p->s.max_batch;
+    timeout_us = p->s.batch_timeout_us;
+  }
+  std::vector<std::string> refused;
+  std::unique_lock<std::mutex> l(sh->lock);
+  Clock::time_point deadline{};
+  while (batch->size() < n) {
+    if (batch->empty())
+      sh->cv.wait(l, [&] { return sh->flushing || !sh->requests.empty(); });
+    else
+      sh->cv.wait_until(l, deadline, [&] { return sh->flushing || !sh->requests.empty(); });
+    if (sh->flushing) return GST_FLOW_FLUSHING;
+    while (!sh->requests.empty() && batch->size() < n) {
+      nns::edge::Message m = std::move(sh->requests.front());
+      const auto at = sh->arrived.front();
+      sh->requests.pop_front();
+      sh->arrived.pop_front();
+      if (!fits(p->slot, m)) {
+        ++p->refused;
+        refused.push_back("client id " + std::to_string(client_of(m)));
+        continue;
+      }
+      if (batch->empty()) deadline = at + std::chrono::microseconds(timeout_us);
+      batch->push_back(std::move(m));
+    }
+    if (!batch->empty() && Clock::now() >= deadline) break;
+  }
+  l.unlock();
+  for (const auto &who : refused)
+    NNS_POST_WARNING(self, "max-batch: the request of " + who +
+                               " does not match the caps of one batch slot; dropped");
+  return GST_FLOW_OK;
+}
+
+// Stacks the requests along the outermost dimension into one buffer of max-batch slots.
+GstBuffer *stack(GstTensorQueryServerSrc *self, std::vector<nns::edge::Message> &&batch) {
+  auto *p = self->priv;
+  guint n;
+  {
+    std::lock_guard<std::mutex> l(p->lock);
+    n = p->s.max_batch;
+  }
+  GstBuffer *buf = gst_buffer_new();
+  std::vector<int64_t> clients;
+  for (const auto &m : batch) clients.push_back(client_of(m));
+  for (std::size_t t = 0; t < p->slot.size(); ++t) {
+    const std::size_t sz = p->slot[t];
+    GstMemory *mem = gst_allocator_alloc(nullptr, sz * n, nullptr);
+    GstMapInfo mi;
+    gst_memory_map(mem, &mi, GST_MAP_WRITE);
+    for (std::size_t i = 0; i < batch.size(); ++i)
+      memcpy(mi.data + i * sz, batch[i].mems[t]->data(), sz);
+    memset(mi.data + batch.size() * sz, 0, (n - batch.size()) * sz);  // unused slots
+    gst_memory_unmap(mem, &mi);
+    gst_buffer_append_memory(buf, mem);
+  }
+  nns::gst::buffer_add_meta_query(buf, clients.front());
+  nns::gst::buffer_add_batch_meta(buf, n, clients);
+  ++p->batches;
+  p->batched += batch.size();
+  return buf;
+}
+
+}  // namespace
+
 static GstFlowReturn serversrc_create(GstPushSrc *psrc, GstBuffer **out) {
   return nns::gst::guard(psrc, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
-    auto *p = GST_TENSOR_QUERY_SERVERSRC(psrc)->priv;
+    auto *self = GST_TENSOR_QUERY_SERVERSRC(psrc);
+    auto *p = self->priv;
     auto sh = p->shared;
     if (!sh) return GST_FLOW_FLUSHING;
+    if (!p->slot.empty()) {  // batching (set_caps accepted max-batch > 1)
+      std::vector<nns::edge::Message> batch;
+      const GstFlowReturn r = take_batch(self, &batch);
+      if (r != GST_FLOW_OK) return r;
+      p->received += batch.size();
+      *out = stack(self, std::move(batch));
+      return GST_FLOW_OK;
+    }
     nns::edge::Message m;
     {
       std::unique_lock<std::mutex> l(sh->lock);
@@ -227,9 +465,9 @@ static GstFlowReturn serversrc_create(GstPushSrc *psrc, GstBuffer **out) {
       if (sh->flushing) return GST_FLOW_FLUSHING;
       m = std::move(sh->requests.front());
       sh->requests.pop_front();
+      sh->arrived.pop_front();
     }
-    const auto id_str = m.meta.get("client_id");
-    const int64_t client_id = id_str ? g_ascii_strtoll(id_str->c_str(), nullptr, 10) : 0;
+    const int64_t client_id = client_of(m);
     GstBuffer *buf = nns::gst::buffer_from_message_for_pad(std::move(m), GST_BASE_SRC_PAD(psrc));
     nns::gst::buffer_add_meta_query(buf, client_id);
     ++p->received;
@@ -263,6 +501,26 @@ static void gst_tensor_query_serversrc_class_init(GstTensorQueryServerSrcClass *
                            "Synchronize the incoming buffers' timestamp with the current "
                            "running time",
                            TRUE, rw));
+  g_object_class_install_property(
+      gobject, PROP_MAX_BATCH,
+      g_param_spec_uint("max-batch", "Maximum batch",
+                        "Requests of several clients stacked along the outermost dimension into "
+                        "one buffer of this many slots (the caps downstream have it as outermost "
+                        "dimension); 1: one request per buffer",
+                        1, 1024, 1, rw));
+  g_object_class_install_property(
+      gobject, PROP_BATCH_TIMEOUT,
+      g_param_spec_uint64("batch-timeout", "Batch timeout",
+                          "Microseconds a request waits for others to fill its batch (0: only "
+                          "those already waiting join it)",
+                          0, G_MAXUINT64, 0, rw));
+  g_object_class_install_property(
+      gobject, PROP_STATS,
+      g_param_spec_boxed("stats", "Statistics",
+                         "Requests received; with max-batch > 1: buffers made (batches), requests "
+                         "in them (batched), requests that did not fit a slot (refused)",
+                         GST_TYPE_STRUCTURE,
+                         static_cast<GParamFlags>(G_PARAM_READABLE | G_PARAM_STATIC_STRINGS)));
   gst_element_class_add_static_pad_template(element, &src_template);
   gst_element_class_set_static_metadata(element, "TensorQueryServerSrc", "Source/Tensor/Query",
                                         "Receive tensor data as a server over the network",
@@ -270,6 +528,8 @@ static void gst_tensor_query_serversrc_class_init(GstTensorQueryServerSrcClass *
   basesrc->start = serversrc_start;
   basesrc->stop = serversrc_stop;
   basesrc->unlock = serversrc_unlock;
+  basesrc->set_caps = serversrc_set_caps;
+  basesrc->negotiate = serversrc_negotiate;
   basesrc->unlock_stop = serversrc_unlock_stop;
   pushsrc->create = serversrc_create;
   GST_DEBUG_CATEGORY_INIT(query_serversrc_debug, "tensor_query_serversrc", 0,

@@ -40,7 +40,10 @@ struct RatePriv {
   std::mutex settings_lock;  // guards the three properties
   bool silent = true;
   bool throttle = true;
-  int rate_n = -1, rate_d = -1;  // `framerate` property; -1 = unset, -2 = malformed
+  int rate_n = -1, rate_d = -1;  // `framerate` property; -1 = unset
+  // A malformed `framerate` is refused when set (the previous value stays, as upstream); the
+  // element then fails to start, naming it.
+  std::string refused_framerate;
   // Counters readable while the streaming thread pushes.
   std::atomic<uint64_t> in{0}, out{0}, dup{0}, drop{0};
   std::mutex lock;  // streaming state below
@@ -353,17 +356,18 @@ static void gst_tensor_rate_set_property(GObject *object, guint id, const GValue
       std::string str = s ? nns::trim(s) : "";
       if (str.empty()) {
         p->rate_n = p->rate_d = -1;
+        p->refused_framerate.clear();
         break;
       }
       int n = -1, d = -1;
       char extra;
       if (std::sscanf(str.c_str(), "%d/%d%c", &n, &d, &extra) != 2 || n < 0 || d <= 0) {
-        // Reported when the element starts (see start); keep the property unset.
-        GST_WARNING_OBJECT(self, "framerate '%s' is not N/D", str.c_str());
-        p->rate_n = -2;
-        p->rate_d = -2;
+        // Refused: the previous value stays; reported when the element starts.
+        GST_WARNING_OBJECT(self, "framerate '%s' is not N/D: refused", str.c_str());
+        p->refused_framerate = str;
         break;
       }
+      p->refused_framerate.clear();
       p->rate_n = n;
       p->rate_d = d;
       break;
@@ -412,9 +416,16 @@ static GstStateChangeReturn tensor_rate_change_state(GstElement *element, GstSta
   auto *self = GST_TENSOR_RATE(element);
   if (t == GST_STATE_CHANGE_NULL_TO_READY) {
     std::lock_guard<std::mutex> l(self->priv->settings_lock);
-    if (self->priv->rate_n == -2) {
+    if (!self->priv->refused_framerate.empty()) {
+      const RatePriv *p = self->priv;
+      std::string kept = p->rate_n >= 0 && p->rate_d > 0 ? "'" + std::to_string(p->rate_n) + "/" +
+                                                               std::to_string(p->rate_d) + "'"
+                                                         : std::string("no value");
       NNS_POST_ERROR(self, nns::ErrorKind::kSettings,
-                     "framerate must be N/D with N >= 0 and D > 0 (e.g. framerate=10/1)");
+                     "framerate '" + p->refused_framerate +
+                         "' was refused: it must be N/D with N >= 0 and D > 0 (e.g. "
+                         "framerate=10/1); 'framerate' kept " +
+                         kept);
       return GST_STATE_CHANGE_FAILURE;
     }
   }

@@ -13,6 +13,7 @@
 #include <atomic>
 
 #include "gst/element_glue.h"
+#include "gst/gst_ptr.h"
 #include "gst/tensor_caps.h"
 
 GST_DEBUG_CATEGORY_STATIC(tensor_sink_debug);
@@ -108,9 +109,34 @@ static gboolean gst_tensor_sink_event(GstBaseSink *sink, GstEvent *event) {
   return GST_BASE_SINK_CLASS(gst_tensor_sink_parent_class)->event(sink, event);
 }
 
+// True when `caps` parse once their num_tensors field is left out.
+static bool caps_valid_without_num_tensors(GstCaps *caps) {
+  if (gst_caps_get_size(caps) != 1) return false;
+  const GstStructure *st = gst_caps_get_structure(caps, 0);
+  if (!gst_structure_has_field(st, "num_tensors")) return false;
+  nns::gst::CapsPtr copy(gst_caps_copy(caps));
+  gst_structure_remove_field(gst_caps_get_structure(copy.get(), 0), "num_tensors");
+  try {
+    return nns::gst::config_from_caps(copy.get()).info.valid();
+  } catch (const nns::Error &) {
+    return false;
+  }
+}
+
 static gboolean gst_tensor_sink_set_caps(GstBaseSink *sink, GstCaps *caps) {
   return nns::gst::guard(sink, FALSE, [&]() -> gboolean {
-    auto config = nns::gst::config_from_caps(caps);  // validates the caps strings
+    nns::TensorsConfig config;
+    try {
+      config = nns::gst::config_from_caps(caps);  // validates the caps strings
+    } catch (const nns::Error &e) {
+      // The sink does not use the description: as NNStreamer's, it takes caps whose num_tensors
+      // disagrees with the lists (its extraTensors test: num_tensors=20 with two dimensions),
+      // saying so. Malformed or missing lists stay errors.
+      if (!caps_valid_without_num_tensors(caps)) throw;
+      NNS_POST_WARNING(
+          sink, std::string(e.what()) + " (accepted: the sink delivers the buffers as they come)");
+      return TRUE;
+    }
     if (!config.info.valid())
       nns::fail(nns::ErrorKind::kNegotiation,
                 "format=static caps need the dimensions and types of every tensor, got " +

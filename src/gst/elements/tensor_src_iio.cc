@@ -314,6 +314,20 @@ static nns::TensorsConfig make_config(const nns::iio::Device &dev, unsigned capa
   return c;
 }
 
+// One tensor (merged channels, or a single channel): the legacy other/tensor structure first, so
+// a peer taking both gets other/tensor as NNStreamer's element gives (its tests read that name);
+// other/tensors stays offered.
+static GstCaps *legacy_first(GstCaps *caps) {
+  if (gst_caps_get_size(caps) != 2 ||
+      !gst_structure_has_name(gst_caps_get_structure(caps, 1), "other/tensor"))
+    return caps;
+  GstStructure *legacy = gst_caps_steal_structure(caps, 1);
+  GstCaps *out = gst_caps_new_empty();
+  gst_caps_append_structure(out, legacy);
+  gst_caps_append(out, caps);
+  return out;
+}
+
 static gboolean src_iio_start(GstBaseSrc *src) {
   auto *self = GST_TENSOR_SRC_IIO(src);
   auto *p = self->priv;
@@ -341,7 +355,7 @@ static gboolean src_iio_start(GstBaseSrc *src) {
     r.period = gst_util_uint64_scale(GST_SECOND, s.dev.buffer_capacity, r.device->frequency());
     {
       std::lock_guard<std::mutex> l(p->lock);
-      gst_caps_take(&p->caps, nns::gst::caps_from_config(r.config));
+      gst_caps_take(&p->caps, legacy_first(nns::gst::caps_from_config(r.config)));
     }
     p->flushing = false;
     p->run = std::move(r);

@@ -16,6 +16,7 @@
 #include <gst/base/gstbasetransform.h>
 
 #include <algorithm>
+#include <atomic>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -53,6 +54,10 @@ struct Settings {
   bool acceleration = true;
   std::string apply;
   bool silent = true;
+  // An option refused when set (as upstream, `option` keeps its previous value); start() posts
+  // why, so the refusal is not silent.
+  std::optional<std::string> refused_option;
+  std::string refused_reason;
 };
 
 // What the settings mean, parsed (throws nns::Error naming the property).
@@ -88,6 +93,10 @@ struct TransformPriv {
   Settings settings;
   std::optional<State> state;
   bool caps_error_posted = false;
+  // mode/option/apply/acceleration changed since the state was built. GstBaseTransform does not
+  // call set_caps again when the renegotiated caps are equal to the old ones (e.g. add:.5 ->
+  // mul:20), so transform() rebuilds the state itself then.
+  std::atomic<bool> settings_changed{false};
 };
 
 enum {
@@ -223,6 +232,7 @@ static void gst_tensor_transform_set_property(GObject *object, guint id, const G
                                               GParamSpec *pspec) {
   auto *self = GST_TENSOR_TRANSFORM(object);
   bool changed = false;
+  std::string refused;
   {
     std::lock_guard<std::mutex> lk(self->priv->lock);
     Settings &s = self->priv->settings;
@@ -237,6 +247,20 @@ static void gst_tensor_transform_set_property(GObject *object, guint id, const G
       case PROP_OPTION: {
         const gchar *v = g_value_get_string(value);
         std::optional<std::string> next = v ? std::optional<std::string>(v) : std::nullopt;
+        if (next && s.mode >= 0) {
+          // Checked against the current mode now, as upstream: a refused option leaves the
+          // previous one in place.
+          try {
+            tr::parse_options(static_cast<tr::Mode>(s.mode), next->c_str());
+          } catch (const Error &e) {
+            s.refused_option = next;
+            s.refused_reason = e.what();
+            refused = e.what();
+            break;
+          }
+        }
+        s.refused_option.reset();
+        s.refused_reason.clear();
         changed = next != s.option;
         s.option = std::move(next);
         break;
@@ -256,8 +280,15 @@ static void gst_tensor_transform_set_property(GObject *object, guint id, const G
         G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
     }
   }
+  if (!refused.empty()) {
+    GST_WARNING_OBJECT(self, "%s", refused.c_str());
+    NNS_POST_WARNING(self, refused + " (refused: 'option' keeps its previous value)");
+  }
   // A change while streaming takes effect from the next buffer: negotiate again.
-  if (changed) gst_base_transform_reconfigure_src(GST_BASE_TRANSFORM(self));
+  if (changed) {
+    self->priv->settings_changed = true;
+    gst_base_transform_reconfigure_src(GST_BASE_TRANSFORM(self));
+  }
 }
 
 static void gst_tensor_transform_get_property(GObject *object, guint id, GValue *value,
@@ -302,6 +333,10 @@ static gboolean gst_tensor_transform_start(GstBaseTransform *trans) {
   // naming the property, when caps arrive (set_caps).
   return nns::gst::guard(trans, FALSE, [&]() -> gboolean {
     Settings s = copy_settings(self);
+    if (s.refused_option)
+      throw Error(ErrorKind::kSettings,
+                  s.refused_reason + " (refused when set; 'option' kept " +
+                      (s.option ? "'" + *s.option + "'" : std::string("no value")) + ")");
     if (s.mode >= 0) parse_settings(s);
     return TRUE;
   });
@@ -339,6 +374,7 @@ static GstCaps *gst_tensor_transform_transform_caps(GstBaseTransform *trans,
 static gboolean gst_tensor_transform_set_caps(GstBaseTransform *trans, GstCaps *incaps,
                                               GstCaps *outcaps) {
   auto *self = GST_TENSOR_TRANSFORM(trans);
+  self->priv->settings_changed = false;  // the settings read below are the newest
   gboolean ok = nns::gst::guard(trans, FALSE, [&]() -> gboolean {
     State st;
     st.parsed = parse_settings(copy_settings(self));
@@ -551,6 +587,12 @@ static void transform_flexible(State &st, GstBuffer *inbuf, GstBuffer *outbuf) {
 static GstFlowReturn gst_tensor_transform_transform(GstBaseTransform *trans, GstBuffer *inbuf,
                                                     GstBuffer *outbuf) {
   auto *self = GST_TENSOR_TRANSFORM(trans);
+  if (self->priv->state && self->priv->settings_changed) {
+    nns::gst::CapsPtr in(gst_pad_get_current_caps(GST_BASE_TRANSFORM_SINK_PAD(trans)));
+    nns::gst::CapsPtr out(gst_pad_get_current_caps(GST_BASE_TRANSFORM_SRC_PAD(trans)));
+    if (in && out && !gst_tensor_transform_set_caps(trans, in.get(), out.get()))
+      return GST_FLOW_NOT_NEGOTIATED;
+  }
   return nns::gst::guard(trans, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     if (!self->priv->state) throw Error(ErrorKind::kNegotiation, "no caps were negotiated");
     State &st = *self->priv->state;

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+#include "gst/query_batch.h"
+
+#include "core/error.h"
+#include "gst/gst_ptr.h"
+#include "gst/tensor_caps.h"
+
+namespace nns::gst {
+
+namespace {
+
+const char *kBatchMeta = "GstQueryBatchMeta";
+
+const GstMetaInfo *batch_meta_info() {
+  static const GstMetaInfo *info = nullptr;
+  if (g_once_init_enter(&info)) {
+    static const gchar *tags[] = {nullptr};
+    const GstMetaInfo *i = gst_meta_get_info(kBatchMeta);
+    if (!i) i = gst_meta_register_custom(kBatchMeta, tags, nullptr, nullptr, nullptr);
+    g_once_init_leave(&info, i);
+  }
+  return info;
+}
+
+// The config of one fixed tensor structure, or nullopt.
+std::optional<TensorsConfig> structure_config(GstCaps *caps, guint i) {
+  CapsPtr one(gst_caps_fixate(gst_caps_copy_nth(caps, i)));
+  if (!is_tensor_caps(one.get())) return std::nullopt;
+  try {
+    TensorsConfig c = config_from_caps(one.get());
+    if (c.info.format != TensorFormat::kStatic || !c.info.valid()) return std::nullopt;
+    return c;
+  } catch (const Error &) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+GstCaps *unbatch_caps(GstCaps *caps, guint n) {
+  if (!caps || gst_caps_is_any(caps)) return caps ? gst_caps_ref(caps) : gst_caps_new_any();
+  GstCaps *out = gst_caps_new_empty();
+  for (guint i = 0; i < gst_caps_get_size(caps); ++i) {
+    auto c = structure_config(caps, i);
+    if (!c) continue;
+    bool ok = true;
+    for (auto &t : c->info.tensors) {
+      const std::size_t r = t.rank();
+      ok = ok && r > 0 && t.dims[r - 1] == n;
+      if (ok) t.dims[r - 1] = 1;
+    }
+    if (ok) gst_caps_append(out, caps_from_config(*c, true));
+  }
+  return out;
+}
+
+std::optional<std::string> batch_caps_problem(GstCaps *caps, guint n) {
+  const std::string got = caps_to_string(caps);
+  if (!is_tensor_caps(caps) || !gst_caps_is_fixed(caps))
+    return "batches need fixed tensor caps (other/tensors,format=static), got '" + got + "'";
+  TensorsConfig c;
+  try {
+    c = config_from_caps(caps);
+  } catch (const Error &e) {
+    return std::string(e.what());
+  }
+  if (c.info.format != TensorFormat::kStatic)
+    return "batches need static tensors (N fixed in the caps, unused slots are padding), got '" +
+           got + "'";
+  if (c.info.size() > 16)
+    return "batches take at most 16 tensors, got " + std::to_string(c.info.size());
+  for (std::size_t i = 0; i < c.info.size(); ++i) {
+    const auto &t = c.info[i];
+    const std::size_t r = t.rank();
+    if (r == 0 || t.dims[r - 1] != n)
+      return "tensor " + std::to_string(i) + (t.name.empty() ? "" : " ('" + t.name + "')") +
+             " is " + t.to_string() + ": its outermost dimension must be " + std::to_string(n) +
+             " (the batch), got " + (r ? std::to_string(t.dims[r - 1]) : std::string("none"));
+  }
+  return std::nullopt;
+}
+
+std::vector<std::size_t> slot_sizes(const TensorsInfo &info, guint n) {
+  std::vector<std::size_t> out;
+  for (const auto &t : info.tensors) out.push_back(t.byte_size() / n);
+  return out;
+}
+
+void buffer_add_batch_meta(GstBuffer *buf, guint slots, const std::vector<int64_t> &clients) {
+  batch_meta_info();
+  GstCustomMeta *m = gst_buffer_add_custom_meta(buf, kBatchMeta);
+  if (!m) fail(ErrorKind::kInternal, "cannot add the batch meta");
+  std::string ids;
+  for (auto id : clients) ids += (ids.empty() ? "" : ",") + std::to_string(id);
+  gst_structure_set(gst_custom_meta_get_structure(m), "slots", G_TYPE_UINT, slots, "clients",
+                    G_TYPE_STRING, ids.c_str(), nullptr);
+}
+
+std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots) {
+  std::vector<int64_t> out;
+  if (!batch_meta_info()) return out;
+  GstCustomMeta *m = gst_buffer_get_custom_meta(buf, kBatchMeta);
+  if (!m) return out;
+  GstStructure *s = gst_custom_meta_get_structure(m);
+  guint n = 0;
+  gst_structure_get_uint(s, "slots", &n);
+  if (slots) *slots = n;
+  const char *ids = gst_structure_get_string(s, "clients");
+  for (const char *p = ids; p && *p;) {
+    char *end = nullptr;
+    out.push_back(g_ascii_strtoll(p, &end, 10));
+    p = (end && *end == ',') ? end + 1 : nullptr;
+  }
+  return out;
+}
+
+}  // namespace nns::gst

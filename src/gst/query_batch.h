@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: LGPL-2.1-only
+// Dynamic batching of a query server (tensor_query_serversrc max-batch, docs/elements/
+// tensor_query_serversrc.md): requests of several clients stacked along the outermost
+// dimension into one buffer of N slots (N = max-batch, fixed in the caps; slots without a
+// request are zero and their answers are dropped), and tensor_query_serversink splitting the
+// answer back. The slots' client ids travel in a custom meta ("GstQueryBatchMeta", no tags, so
+// it survives transforms as GstMetaQuery does).
+#pragma once
+
+#include <gst/gst.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/tensor_info.h"
+
+namespace nns::gst {
+
+// Caps of one request from caps of a batch of `n`: every static tensor structure whose
+// tensors all have `n` as outermost dimension gets 1 there; others are dropped. ANY stays ANY.
+// Returns a new reference.
+GstCaps *unbatch_caps(GstCaps *caps, guint n);
+
+// Why `caps` cannot carry batches of `n` (nullopt when they can): tensor caps, static, at
+// most 16 tensors, each with outermost dimension `n`.
+std::optional<std::string> batch_caps_problem(GstCaps *caps, guint n);
+
+// Per-slot byte sizes of each tensor of a batch of `n` described by `info`.
+std::vector<std::size_t> slot_sizes(const TensorsInfo &info, guint n);
+
+void buffer_add_batch_meta(GstBuffer *buf, guint slots, const std::vector<int64_t> &clients);
+// The slot client ids (empty when the buffer carries no batch meta) and the slot count.
+std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots);
+
+}  // namespace nns::gst
