@@ -45,9 +45,14 @@ static_assert(sizeof(void *) != 8 || sizeof(GstTensorFilterFramework) == 128,
               "GstTensorFilterFramework must have NNStreamer's size");
 
 tensor_filter_subplugin *tensor_filter_subplugin::get_tfsp_with_checks(void *ptr) {
+  // The sanity word is read as bytes (it follows the vtable pointer) before the pointer is
+  // used as an object: a caller may hand anything here.
+  uint64_t word = 0;
+  if (ptr) std::memcpy(&word, static_cast<const char *>(ptr) + sizeof(void *), sizeof word);
+  if (word != kSanity) throw std::invalid_argument("not an opened tensor_filter_subplugin");
   auto *t = static_cast<tensor_filter_subplugin *>(ptr);
   // An opened object: sanity set, and not a representative (whose subplugin_data is itself).
-  if (!t || t->sanity != kSanity || t->fwdesc.v1.subplugin_data != nullptr)
+  if (t->sanity != kSanity || t->fwdesc.v1.subplugin_data != nullptr)
     throw std::invalid_argument("not an opened tensor_filter_subplugin");
   return t;
 }
