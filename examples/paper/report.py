@@ -312,18 +312,30 @@ def ratios(runs, md):
 
 
 def machine(runs):
-    """One line: cores, pinning, ONNX Runtime threads and the load averages of the runs."""
+    """One line: cores, pinning, ONNX Runtime threads, the load averages of the runs and whether
+    another task held the cores. The 1-minute load average includes the benchmark's own load (a
+    pipeline on every core raises it to about the core count), so the machine is judged by the
+    Controls' run-queue time instead: a single-threaded Control that is never runnable-but-waiting
+    had a core to itself whenever it wanted one."""
     loads = [float(r["info"][k].split()[0]) for r in runs for k in ("loadavg_start", "loadavg_end")
              if k in r["info"]]
     cpus = sorted({int(r["figures"]["cpus"]) for r in runs if "cpus" in r["figures"]})
     ort = sorted({r["info"]["ort_intra_threads"] for r in runs if "ort_intra_threads" in r["info"]})
     if not loads:
         return "Load average not recorded (runs made before it was)."
+    runq = [float(r["figures"]["runq_s"]) for r in runs
+            if r.get("mode") == "control" and "runq_s" in r["figures"]]
+    if runq:
+        verdict = ("; the Controls were kept off a core for %.2f s at most in any run (%s)" % (
+            max(runq), "no other task held the cores: a quiet machine" if max(runq) < 0.05 else
+            "NOT a quiet machine: CPU shares, not the design, decide the ratios"))
+    else:
+        verdict = ("" if max(loads) < 0.5 * max(cpus or [1]) else
+                   " (NOT a quiet machine: CPU shares, not the design, decide the ratios)")
     return ("Runs pinned to %s core(s), ONNX Runtime intra-op threads %s; 1-minute load average "
-            "between %.2f and %.2f over the runs%s." % (
+            "between %.2f and %.2f over the runs (their own load included)%s." % (
                 "/".join(map(str, cpus)) or "?", "/".join(ort) or "?", min(loads), max(loads),
-                "" if max(loads) < 0.5 * max(cpus or [1]) else
-                " (NOT a quiet machine: CPU shares, not the design, decide the ratios)"))
+                verdict))
 
 
 def trace(out, tag):

@@ -57,7 +57,7 @@ ORT_THREADS=${NNS_PAPER_ORT_THREADS:-1}
 command -v taskset >/dev/null || nns_die 1 "taskset (util-linux) missing: both sides are pinned with it"
 echo "$NNS_TAG: $(nproc) cores, both sides pinned to cores $CPUS, ONNX Runtime intra-op threads" \
   "$ORT_THREADS; load $(cut -d' ' -f1-3 /proc/loadavg); results in $OUT"
-busy=$(pgrep -c -x 'cc1plus|cc1|ld|ld.gold|ld.lld|ninja|make|rustc|clang|clang\+\+' || true)
+busy=$(ps -e -o comm= | grep -c -x -E 'cc1plus|cc1|ld|ld.gold|ld.lld|ninja|make|rustc|clang|clang\+\+' || true)
 load1=$(cut -d' ' -f1 /proc/loadavg)
 if ((busy > 0)) || awk -v l="$load1" 'BEGIN { exit !(l >= 0.5) }'; then
   echo "$NNS_TAG: WARNING: not a quiet machine (load $load1, $busy compiler/linker processes):" \
