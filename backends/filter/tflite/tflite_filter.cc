@@ -36,13 +36,6 @@
 #include "tflite_model.h"
 #include "tflite_to_onnx.h"
 
-#if __has_include("core/detection_postprocess.h")
-#include "core/detection_postprocess.h"
-#define NNS_TFLITE_HAVE_DETECTION 1
-#else
-#define NNS_TFLITE_HAVE_DETECTION 0
-#endif
-
 namespace nns {
 namespace {
 
@@ -325,14 +318,6 @@ class TfliteFilter final : public FilterBackend {
     } catch (const tfl::ModelError &e) {
       throw FilterError(std::string(kName) + ": " + e.what(), -ENOTSUP);
     }
-#if !NNS_TFLITE_HAVE_DETECTION
-    if (pl->tr.post)
-      throw FilterError(prefix(m.path) + ": operator " + std::to_string(pl->tr.post->op_index) +
-                            " (TFLite_Detection_PostProcess) needs the detection kernel "
-                            "(src/core/detection_postprocess), which this build lacks; "
-                            "framework=armnn may run it",
-                        -ENOTSUP);
-#endif
     Ort::SessionOptions so;
     so.SetIntraOpNumThreads(settings_.threads);
     so.SetInterOpNumThreads(1);
@@ -506,20 +491,7 @@ class TfliteFilter final : public FilterBackend {
 
   void post_process(const Plan &pl, const float *boxes, const float *scores,
                     GstTensorMemory *out) const {
-#if NNS_TFLITE_HAVE_DETECTION
     const tfl::DetectionPost &p = *pl.tr.post;
-    DetectionPostProcessOptions o{};
-    o.max_detections = p.max_detections;
-    o.max_classes_per_detection = p.max_classes_per_detection;
-    o.detections_per_class = p.detections_per_class;
-    o.nms_score_threshold = p.nms_score_threshold;
-    o.nms_iou_threshold = p.nms_iou_threshold;
-    o.num_classes = p.num_classes;
-    o.y_scale = p.y_scale;
-    o.x_scale = p.x_scale;
-    o.h_scale = p.h_scale;
-    o.w_scale = p.w_scale;
-    o.use_regular_nms = p.use_regular_nms;
     float *dst[4] = {};
     for (std::size_t i = 0; i < pl.out.size(); ++i)
       for (std::size_t j = 0; j < 4; ++j)
@@ -528,14 +500,8 @@ class TfliteFilter final : public FilterBackend {
     scratch.resize(static_cast<std::size_t>(p.slots()) * 4);
     for (float *&d : dst)
       if (!d) d = scratch.data();
-    detection_postprocess(o, boxes, scores, p.anchors.data(), p.num_anchors, dst[0], dst[1], dst[2],
-                          dst[3]);
-#else
-    (void)pl;
-    (void)boxes;
-    (void)scores;
-    (void)out;
-#endif
+    detection_postprocess(p.opts, boxes, scores, p.anchors.data(), p.num_anchors, dst[0], dst[1],
+                          dst[2], dst[3]);
   }
 
   static void fill(const Plan &pl, nns_tensors_desc &in, nns_tensors_desc &out) {

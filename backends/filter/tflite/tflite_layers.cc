@@ -200,6 +200,7 @@ void Translator::detection_post(const Op &op, Translation &tr) {
       if (std::count(other.inputs.begin(), other.inputs.end(), o))
         unsupported(op, "its outputs feed other operators");
   DetectionPost p;
+  DetectionPostProcessOptions &o = p.opts;
   if (op.custom_options && op.custom_options_size) {
     std::vector<uint8_t> buf(op.custom_options, op.custom_options + op.custom_options_size);
     if (!flexbuffers::VerifyBuffer(buf.data(), buf.size()))
@@ -213,24 +214,24 @@ void Translator::detection_post(const Op &op, Translation &tr) {
       auto e = map[k];
       if (!e.IsNull()) v = e.AsFloat();
     };
-    geti("max_detections", p.max_detections);
-    geti("max_classes_per_detection", p.max_classes_per_detection);
-    geti("detections_per_class", p.detections_per_class);
-    getf("nms_score_threshold", p.nms_score_threshold);
-    getf("nms_iou_threshold", p.nms_iou_threshold);
-    geti("num_classes", p.num_classes);
-    getf("y_scale", p.y_scale);
-    getf("x_scale", p.x_scale);
-    getf("h_scale", p.h_scale);
-    getf("w_scale", p.w_scale);
+    geti("max_detections", o.max_detections);
+    geti("max_classes_per_detection", o.max_classes_per_detection);
+    geti("detections_per_class", o.detections_per_class);
+    getf("nms_score_threshold", o.nms_score_threshold);
+    getf("nms_iou_threshold", o.nms_iou_threshold);
+    geti("num_classes", o.num_classes);
+    getf("y_scale", o.y_scale);
+    getf("x_scale", o.x_scale);
+    getf("h_scale", o.h_scale);
+    getf("w_scale", o.w_scale);
     auto r = map["use_regular_nms"];
-    if (!r.IsNull()) p.use_regular_nms = r.AsBool();
+    if (!r.IsNull()) o.use_regular_nms = r.AsBool();
   }
-  if (p.max_detections <= 0 || p.max_detections > 10000 || p.num_classes <= 0 ||
-      p.num_classes > 100000 || p.max_classes_per_detection <= 0 ||
-      p.max_classes_per_detection > p.num_classes || p.slots() > 100000)
-    fail(op, "implausible options (max_detections " + std::to_string(p.max_detections) +
-                 ", num_classes " + std::to_string(p.num_classes) + ")");
+  if (o.max_detections <= 0 || o.max_detections > 10000 || o.num_classes <= 0 ||
+      o.num_classes > 100000 || o.max_classes_per_detection <= 0 ||
+      o.max_classes_per_detection > o.num_classes || p.slots() > 100000)
+    fail(op, "implausible options (max_detections " + std::to_string(o.max_detections) +
+                 ", num_classes " + std::to_string(o.num_classes) + ")");
   int anchors = op.inputs[2];
   if (!is_const(anchors)) unsupported(op, "anchors must be a constant");
   const Tensor &a = T(anchors);
@@ -251,9 +252,9 @@ void Translator::detection_post(const Op &op, Translation &tr) {
   int boxes = op.inputs[0], scores = op.inputs[1];
   int64_t nb = T(boxes).elements(), ns = T(scores).elements();
   if (nb != int64_t{p.num_anchors} * 4 || ns % p.num_anchors ||
-      ns / p.num_anchors != p.num_classes + 1)
+      ns / p.num_anchors != o.num_classes + 1)
     fail(op, "box encodings/scores do not match " + std::to_string(p.num_anchors) +
-                 " anchors and " + std::to_string(p.num_classes) + " classes (+1 background)");
+                 " anchors and " + std::to_string(o.num_classes) + " classes (+1 background)");
   p.boxes = "post_boxes";
   p.scores = "post_scores";
   g_.node("Identity", {flt(boxes)}, {p.boxes});

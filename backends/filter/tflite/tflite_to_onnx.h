@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/detection_postprocess.h"
 #include "tflite_model.h"
 
 namespace nns::tfl {
@@ -20,20 +21,17 @@ namespace nns::tfl {
 // The custom op TFLite_Detection_PostProcess runs on the CPU after ORT: ORT gives its float
 // inputs (box encodings, class scores), the anchors are decoded here.
 struct DetectionPost {
-  int max_detections = 10, max_classes_per_detection = 1, detections_per_class = 100;
-  float nms_score_threshold = 0.f, nms_iou_threshold = 0.5f;
-  int num_classes = 90;
-  float y_scale = 10.f, x_scale = 10.f, h_scale = 5.f, w_scale = 5.f;
-  bool use_regular_nms = false;
-  std::string boxes, scores;   // ONNX outputs feeding it
-  std::vector<float> anchors;  // [num_anchors][4]
+  DetectionPostProcessOptions opts;  // the op's custom options, TFLite's defaults
+  std::string boxes, scores;         // ONNX outputs feeding it
+  std::vector<float> anchors;        // [num_anchors][4]
   int num_anchors = 0;
   std::vector<int> outputs;  // its 4 TFLite output tensors
   int op_index = -1;
   // Output rows: max_detections x max_classes_per_detection (fast NMS, TFLite's output shape),
   // max_detections (regular NMS).
   int slots() const {
-    return use_regular_nms ? max_detections : max_detections * max_classes_per_detection;
+    return opts.use_regular_nms ? opts.max_detections
+                                : opts.max_detections * opts.max_classes_per_detection;
   }
 };
 
