@@ -350,8 +350,7 @@ TEST(MqttElements, SrcReadsAPeersMessage) {
       "framerate=(fraction)0/1";
   // The sender's pipeline started 1 s after ours: pts 2 ms there is 1.002 s here.
   const auto msg = make_message({m0, m1}, caps, rx_base + 1000000000, 2000000);
-  // Retained: mqttsrc may be PLAYING before the broker has its subscription.
-  ASSERT_TRUE(peer.client.publish(topic, msg.data(), msg.size(), 1, true));
+  ASSERT_TRUE(peer.client.publish(topic, msg.data(), msg.size(), 1, false));
   GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(rx.get("out")), 10 * GST_SECOND);
   ASSERT_NE(s, nullptr) << rx.errors();
   GstBuffer *got = gst_sample_get_buffer(s);
@@ -380,8 +379,7 @@ GstSample *receive_through_filter(const Broker &b, const std::string &dims, std:
   EXPECT_TRUE(rx.wait_playing("src"));
   RawPeer peer(b);
   const auto msg = make_message({m0, m1}, caps, rx.base_epoch(), 0);
-  // Retained: mqttsrc may be PLAYING before the broker has its subscription (seen under load).
-  EXPECT_TRUE(peer.client.publish(topic, msg.data(), msg.size(), 1, true));
+  EXPECT_TRUE(peer.client.publish(topic, msg.data(), msg.size(), 1, false));
   GstSample *s = gst_app_sink_try_pull_sample(GST_APP_SINK(rx.get("out")), 5 * GST_SECOND);
   *errors = s ? rx.errors() : rx.wait_error(5s);
   return s;
