@@ -9,3 +9,7 @@ foreach(t tflite_ops_test tflite_backend_test tflite_deeplab_test)
     endif()
   endif()
 endforeach()
+# The exact-arithmetic reference MobileNet v2 quant is checked against.
+if(TARGET tflite_backend_test AND TARGET nns_tflite_model)
+  target_sources(tflite_backend_test PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/backends/tflite_exact_reference.cc)
+endif()
