@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-only
-// Shared by the one-op tests of the tflite back end (tflite_ops_test.cc,
-// tflite_ops_data_test.cc): run a generated model once through the back end's C ABI, and the
-// byte/value conversions and tolerances the tests use.
+// Shared by the tflite back end tests on generated and real models (tflite_ops_test.cc,
+// tflite_ops_data_test.cc, tflite_reference_test.cc): the back end's library, one run of a
+// generated model through its C ABI, byte/value conversions and the float tolerance.
 #pragma once
 
 #include <gtest/gtest.h>
