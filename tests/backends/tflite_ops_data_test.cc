@@ -318,6 +318,31 @@ TEST(TfliteOpsData, MirrorPadSymmetric) {
   mirror_pad(1);
 }
 
+// SYMMETRIC indices come from the input's shape: another input shape (set_input_info) gets its
+// own. [1,3] declared, run as [1,5] with paddings [[0,0],[2,1]] -> [1,8].
+TEST(TfliteOpsData, MirrorPadSymmetricFollowsTheInputShape) {
+  REQUIRE_TFLITE();
+  TfliteBuilder t;
+  int xi = t.tensor("x", TT::TensorType_FLOAT32, {1, 3});
+  int pi = ints(t, "p", {2, 2}, {0, 0, 2, 1});
+  int yi = t.tensor("y", TT::TensorType_FLOAT32, {1, 6});
+  t.op(B::BuiltinOperator_MIRROR_PAD, {xi, pi}, {yi}, tflite::BuiltinOptions_MirrorPadOptions,
+       tflite::CreateMirrorPadOptions(t.fb(), 1).Union());
+  TempModel f(t.finish({xi}, {yi}));
+  Props p;
+  p.models = {f.path()};
+  Instance inst(lib().api(), p);
+  ASSERT_EQ(inst.rc(), 0) << inst.error();
+  nns_tensors_desc out{};
+  ASSERT_EQ(inst.set_input_info(tensors_desc({tensor_desc(_NNS_FLOAT32, {5, 1})}), out), 0)
+      << inst.error();
+  ASSERT_EQ(out.tensors[0].dims[0], 8u);
+  std::vector<float> x{1, 2, 3, 4, 5}, y(8);
+  std::vector<GstTensorMemory> in{{x.data(), 20}}, o{{y.data(), 32}};
+  ASSERT_EQ(inst.invoke(in, o), 0) << inst.error();
+  EXPECT_EQ(y, (std::vector<float>{2, 1, 1, 2, 3, 4, 5, 5}));
+}
+
 // Reductions of [2,3,4] over axes {0,2} (keep_dims false -> [3]) and {1} (keep_dims true ->
 // [2,1,4]).
 void reduce(B code, float init, const std::function<float(float, float)> &f, float in_scale,

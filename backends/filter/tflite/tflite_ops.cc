@@ -277,11 +277,15 @@ void Translator::translate_op(const Op &op, Translation &tr) {
           return store(out0(), y);
         }
         // SYMMETRIC (edge repeated) has no ONNX Pad mode: one Gather per padded axis, indices
-        // from the input's shape (a new input shape is a new translation).
+        // from the input's shape (a model input's as given to this translation; an inner
+        // tensor's as the model declares it).
+        std::vector<int64_t> dims(T(in0()).shape.begin(), T(in0()).shape.end());
+        for (std::size_t k = 0; k < m_.inputs.size(); ++k)
+          if (m_.inputs[k] == in0() && in_shapes_[k].size() == dims.size()) dims = in_shapes_[k];
         return movement([&](const std::string &x) {
           std::string y = x;
           for (int i = 0; i < r; ++i) {
-            const int64_t n = T(in0()).shape[i], before = p[2 * i], after = p[2 * i + 1];
+            const int64_t n = dims[i], before = p[2 * i], after = p[2 * i + 1];
             if (before == 0 && after == 0) continue;
             if (before < 0 || after < 0 || before > n || after > n)
               fail(op, "SYMMETRIC paddings must be 0.." + std::to_string(n) + " on axis " +
