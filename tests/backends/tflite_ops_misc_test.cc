@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // One-op models for the tflite back end's remaining operators of the op table (LOG, SQRT,
 // RSQRT, CEIL, SIN, COS, ELU, POW, FLOOR_DIV, EXPAND_DIMS, PADV2, DEPTH_TO_SPACE,
-// SPACE_TO_DEPTH, ARG_MIN, SHAPE, BROADCAST_TO), each against a scalar reference written here:
-// float within 1e-5 relative, integer and data-movement results exact.
+// SPACE_TO_DEPTH, ARG_MIN, SHAPE, BROADCAST_ARGS, BROADCAST_TO), each against a scalar reference
+// written here: float within 1e-5 relative, integer and data-movement results exact.
 #include <functional>
 
 #include "backends/tflite_op_util.h"
@@ -174,6 +174,18 @@ TEST(TfliteOpsMisc, ShapeAndBroadcastTo) {
   ASSERT_EQ(out.size(), 2u);
   EXPECT_EQ(values_of<int32_t>(out[0]), (std::vector<int32_t>{2, 3}));
   expect_near(values_of<float>(out[1]), {1.5f, -2.f, 4.f, 1.5f, -2.f, 4.f});
+}
+
+// BROADCAST_ARGS of two shape vectors given as inputs: [4,1,3] and [2,1] -> [4,2,3].
+TEST(TfliteOpsMisc, BroadcastArgs) {
+  REQUIRE_TFLITE();
+  std::vector<int32_t> a{4, 1, 3}, b{2, 1};
+  TfliteBuilder t;
+  int ai = t.tensor("a", TT::TensorType_INT32, {3}), bi = t.tensor("b", TT::TensorType_INT32, {2});
+  int yi = t.tensor("y", TT::TensorType_INT32, {3});
+  t.op(B::BuiltinOperator_BROADCAST_ARGS, {ai, bi}, {yi});
+  EXPECT_EQ(values_of<int32_t>(run(t.finish({ai, bi}, {yi}), {bytes_of(a), bytes_of(b)}).at(0)),
+            (std::vector<int32_t>{4, 2, 3}));
 }
 
 }  // namespace
