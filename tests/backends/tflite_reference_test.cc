@@ -3,7 +3,8 @@
 // person_detect, MoveNet), against golden outputs of TensorFlow Lite itself: the WebAssembly
 // build of TFLite 2.x in npm's @tensorflow/tfjs-tflite 0.0.1-alpha.10 (its default CPU path,
 // XNNPACK delegate), run once by scripts/tflite-goldens.sh on the inputs stored beside the
-// goldens in tests/data/tflite (README.md there). The palm detector's decoded boxes
+// goldens in tests/data/tflite (README.md there); person_detect also against Arm NN CpuRef on
+// a copy it accepts, layer by layer. The palm detector's decoded boxes
 // (tensor_decoder option1=mp-palm-detection) are checked against a decoding written here from
 // NNStreamer's and MediaPipe's definitions, applied to TFLite's golden output.
 #include <gtest/gtest.h>
@@ -216,10 +217,32 @@ TEST(TfliteReference, PalmDetectionDecodedBoxesMatchReference) {
 
 // ---- person_detect (int8, per-channel) ----
 
-TEST(TfliteReference, PersonDetectMatchesTflite) {
+// person_detect with quantized_dimension 0 on its 1-D biases (they declare 3, which TFLite and
+// Arm NN refuse and TFLM ignores): computes the same thing.
+std::vector<uint8_t> person_detect_unaxis(const std::string &path) {
+  auto bytes = read_file(path);
+  auto *tensors = tflite::GetMutableModel(bytes.data())
+                      ->mutable_subgraphs()
+                      ->GetMutableObject(0)
+                      ->mutable_tensors();
+  for (uint32_t i = 0; i < tensors->size(); ++i) {
+    auto *t = tensors->GetMutableObject(i);
+    auto *q = t->mutable_quantization();
+    if (q && t->shape() && t->shape()->size() == 1 && q->quantized_dimension() != 0)
+      q->mutate_quantized_dimension(0);
+  }
+  return bytes;
+}
+
+// TFLM's test images: person > notperson on the person, the reverse on the other (TFLM's own
+// test), both outputs within 1 step of TFLite's golden and, when the armnn back end is built,
+// of Arm NN CpuRef (exact integer reference) on the axis-0 copy.
+TEST(TfliteReference, PersonDetectMatchesTfliteAndCpuRef) {
   REQUIRE_TFLITE();
   std::string model = tfl("person_detect.tflite");
   REQUIRE_MODEL(model);
+  const BackendLib &armnn = backend_lib("armnn");
+  TempModel unaxis(person_detect_unaxis(model), "person_detect");
   for (const char *name : {"person", "no_person"}) {
     SCOPED_TRACE(name);
     std::string in = tfl(std::string("data/") + name + "_96x96_int8.raw");
@@ -238,6 +261,63 @@ TEST(TfliteReference, PersonDetectMatchesTflite) {
       EXPECT_GT(yes, no);
     else
       EXPECT_GT(no, yes);
+    if (!armnn.ok()) continue;
+    Props p;
+    p.models = {unaxis.path()};
+    Instance ref(armnn.api(), p);
+    ASSERT_EQ(ref.rc(), 0) << ref.error();
+    auto x = read_file(in);
+    std::vector<uint8_t> r(2);
+    std::vector<GstTensorMemory> im{{x.data(), x.size()}}, om{{r.data(), 2}};
+    ASSERT_EQ(ref.invoke(im, om), 0) << ref.error();
+    std::printf("  Arm NN CpuRef: %d %d\n", static_cast<int8_t>(r[0]), static_cast<int8_t>(r[1]));
+    EXPECT_LE(std::abs(no - static_cast<int8_t>(r[0])), 1);
+    EXPECT_LE(std::abs(yes - static_cast<int8_t>(r[1])), 1);
+  }
+  if (!armnn.ok()) std::printf("armnn back end absent: no CpuRef comparison\n");
+}
+
+// Inside person_detect, against Arm NN CpuRef (exact integer arithmetic) on the axis-0 copy:
+// the model cut after its first layer (tensor 34), the sixth pointwise conv (70), the last
+// conv (50), the average pool (27) and the logits (28), on both test images.
+TEST(TfliteReference, PersonDetectLayersMatchCpuRef) {
+  REQUIRE_TFLITE();
+  std::string model = tfl("person_detect.tflite");
+  REQUIRE_MODEL(model);
+  const BackendLib &armnn = backend_lib("armnn");
+  if (!armnn.ok()) GTEST_SKIP() << "armnn back end absent: no CpuRef comparison";
+  for (const char *name : {"person", "no_person"}) {
+    std::string in = tfl(std::string("data/") + name + "_96x96_int8.raw");
+    if (!std::filesystem::exists(in)) GTEST_SKIP() << in << " missing";
+    auto x = read_file(in);
+    for (int tensor : {34, 70, 50, 27, 28}) {
+      SCOPED_TRACE(std::string(name) + ", tensor " + std::to_string(tensor));
+      auto bytes = person_detect_unaxis(model);
+      tflite::GetMutableModel(bytes.data())
+          ->mutable_subgraphs()
+          ->GetMutableObject(0)
+          ->mutable_outputs()
+          ->Mutate(0, tensor);
+      TempModel cut(bytes, "person_detect_cut");
+      auto ours = run_model(cut.path(), x);
+      ASSERT_EQ(ours.size(), 1u);
+      Props p;
+      p.models = {cut.path()};
+      Instance ref(armnn.api(), p);
+      ASSERT_EQ(ref.rc(), 0) << ref.error();
+      std::vector<uint8_t> r(ours[0].size());
+      std::vector<GstTensorMemory> im{{x.data(), x.size()}}, om{{r.data(), r.size()}};
+      ASSERT_EQ(ref.invoke(im, om), 0) << ref.error();
+      int worst = 0, differ = 0;
+      for (std::size_t i = 0; i < r.size(); ++i) {
+        int d = std::abs(static_cast<int8_t>(ours[0][i]) - static_cast<int8_t>(r[i]));
+        worst = std::max(worst, d);
+        differ += d != 0;
+      }
+      std::printf("%s tensor %d: %d of %zu values differ from CpuRef, by at most %d\n", name,
+                  tensor, differ, r.size(), worst);
+      EXPECT_LE(worst, 1);
+    }
   }
 }
 
