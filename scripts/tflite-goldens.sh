@@ -25,6 +25,11 @@ rgb=$out/astronaut_192x192.rgb
   "$rgb" "$tmp/palm_in.raw"
 run "$models/palm_detection_lite.tflite" "$out/palm_astronaut" "$tmp/palm_in.raw"
 
+# BlazeFace short range: the centre 128x128 of the photo, RGB / 127.5 - 1 as float32.
+/usr/bin/python3 -c "import numpy as n,sys; x=n.fromfile(sys.argv[1],n.uint8).reshape(192,192,3)[32:160,32:160]; (x.astype(n.float32)/n.float32(127.5)-n.float32(1)).tofile(sys.argv[2])" \
+  "$rgb" "$tmp/face_in.raw"
+run "$models/face_detection_short_range.tflite" "$out/blazeface_astronaut_crop" "$tmp/face_in.raw"
+
 # MoveNet: keypoints on the photo; and tensor 201 (the FPN's conv2d_2 output, after 28 of the
 # 157 operators) on the photo with the bytes that make a rounding tie in the input scaling
 # moved by one (tflite_reference_test.cc, movenet_tie_free).

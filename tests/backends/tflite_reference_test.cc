@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-only
 // The tflite back end on the ../shared/models/tflite models Arm NN cannot run (palm detection,
-// person_detect, MoveNet), against golden outputs of TensorFlow Lite itself: the WebAssembly
-// build of TFLite 2.x in npm's @tensorflow/tfjs-tflite 0.0.1-alpha.10 (its default CPU path,
-// XNNPACK delegate), run once by scripts/tflite-goldens.sh on the inputs stored beside the
+// BlazeFace, person_detect, MoveNet), against golden outputs of TensorFlow Lite itself: the
+// WebAssembly build of TFLite 2.x in npm's @tensorflow/tfjs-tflite 0.0.1-alpha.10 (its default CPU
+// path, XNNPACK delegate), run once by scripts/tflite-goldens.sh on the inputs stored beside the
 // goldens in tests/data/tflite (README.md there); person_detect also against Arm NN CpuRef on
 // a copy it accepts, layer by layer. The palm detector's decoded boxes
 // (tensor_decoder option1=mp-palm-detection) are checked against a decoding written here from
@@ -107,6 +107,33 @@ TEST(TfliteReference, PalmDetectionRawOutputsMatchTflite) {
   // the convolutions in different orders, so elementwise 1e-5 cannot hold near zero).
   EXPECT_LE(dr, 1e-5f * mr);
   EXPECT_LE(ds, 1e-5f * ms);
+}
+
+// BlazeFace short range (fp16 weights through DEQUANTIZE, PAD, MAX_POOL) on the centre
+// 128x128 of the photo, RGB / 127.5 - 1: regressors [896,16] and logits [896,1] within 1e-5 of
+// each tensor's largest value.
+TEST(TfliteReference, BlazeFaceRawOutputsMatchTflite) {
+  REQUIRE_TFLITE();
+  std::string model = tfl("face_detection_short_range.tflite");
+  REQUIRE_MODEL(model);
+  auto rgb = astronaut192();
+  std::vector<float> x;
+  for (int y = 32; y < 160; ++y)
+    for (int c = 32 * 3; c < 160 * 3; ++c)
+      x.push_back(static_cast<float>(rgb[y * 192 * 3 + c]) / 127.5f - 1.f);
+  auto out = run_model(model, bytes_of(x));
+  ASSERT_EQ(out.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE("output " + std::to_string(k));
+    auto got = values_of<float>(out[k]);
+    auto want = values_of<float>(
+        read_file(golden("blazeface_astronaut_crop." + std::to_string(k) + ".raw")));
+    ASSERT_EQ(got.size(), k == 0 ? 896u * 16u : 896u);
+    ASSERT_EQ(want.size(), got.size());
+    auto [d, m] = max_diff(got, want);
+    std::printf("blazeface output %d: max |diff| %g (max |value| %g)\n", k, d, m);
+    EXPECT_LE(d, 1e-5f * m);
+  }
 }
 
 // A reference decoding of the palm detector's outputs as NNStreamer's mp-palm-detection
