@@ -10,3 +10,10 @@ foreach(t tflite_ops_test tflite_ops_data_test tflite_ops_misc_test tflite_backe
     endif()
   endif()
 endforeach()
+# tflite_reference_test decodes palm boxes (bounding_boxes sub-plugin) and compares
+# person_detect with Arm NN CpuRef when that back end is built.
+foreach(dep nns_decoder_bounding_boxes nns_filter_armnn)
+  if(TARGET tflite_reference_test AND TARGET ${dep})
+    add_dependencies(tflite_reference_test ${dep})
+  endif()
+endforeach()
