@@ -9,75 +9,12 @@
 #include <functional>
 #include <numeric>
 
-#include "backends/backend_loader.h"
-#include "backends/tflite_builder.h"
+#include "backends/tflite_op_util.h"
 
 namespace nns::test {
 namespace {
 
-using TT = tflite::TensorType;
-
-const BackendLib &lib() {
-  return backend_lib("tensorflow2-lite");
-}
-
-#define REQUIRE_TFLITE()                                                             \
-  do {                                                                               \
-    if (!lib().ok()) GTEST_SKIP() << "tensorflow2-lite back end: " << lib().error(); \
-  } while (0)
-
-template <typename T>
-std::vector<uint8_t> bytes_of(const std::vector<T> &v) {
-  std::vector<uint8_t> b(v.size() * sizeof(T));
-  std::memcpy(b.data(), v.data(), b.size());
-  return b;
-}
-template <typename T>
-std::vector<T> values_of(const std::vector<uint8_t> &b) {
-  std::vector<T> v(b.size() / sizeof(T));
-  std::memcpy(v.data(), b.data(), b.size());
-  return v;
-}
-
-// Opens `model`, checks the output sizes the back end reports, invokes once.
-std::vector<std::vector<uint8_t>> run(const std::vector<uint8_t> &model,
-                                      const std::vector<std::vector<uint8_t>> &inputs,
-                                      std::string *error = nullptr) {
-  TempModel f(model);
-  Props p;
-  p.models = {f.path()};
-  Instance inst(lib().api(), p);
-  if (inst.rc() != 0) {
-    if (error)
-      *error = inst.error();
-    else
-      ADD_FAILURE() << inst.error();
-    return {};
-  }
-  nns_tensors_desc in, out;
-  EXPECT_EQ(inst.model_info(in, out), 0) << inst.error();
-  std::vector<std::vector<uint8_t>> outs(out.num_tensors);
-  std::vector<GstTensorMemory> im, om;
-  for (auto &i : inputs) im.push_back({const_cast<uint8_t *>(i.data()), i.size()});
-  for (uint32_t k = 0; k < out.num_tensors; ++k) {
-    outs[k].resize(desc_bytes(out.tensors[k]));
-    om.push_back({outs[k].data(), outs[k].size()});
-  }
-  EXPECT_EQ(inst.invoke(im, om), 0) << inst.error();
-  return outs;
-}
-
-void expect_near(const std::vector<float> &got, const std::vector<float> &want, float rel = 1e-5f) {
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t i = 0; i < got.size(); ++i)
-    EXPECT_NEAR(got[i], want[i], rel * std::max(1.f, std::fabs(want[i]))) << "at " << i;
-}
-
-std::vector<float> ramp(std::size_t n, float scale = 0.1f, float offset = -1.f) {
-  std::vector<float> v(n);
-  for (std::size_t i = 0; i < n; ++i) v[i] = offset + scale * static_cast<float>((i * 7) % 23);
-  return v;
-}
+using namespace tflite_ops;
 
 // NHWC conv reference (TFLite padding semantics), weights OHWI (depthwise: 1HW(C*M)).
 std::vector<float> conv_ref(const std::vector<float> &x, int H, int W, int C,
