@@ -9,6 +9,8 @@
 #include <functional>
 #include <numeric>
 
+#include <flatbuffers/flexbuffers.h>
+
 #include "backends/tflite_op_util.h"
 
 namespace nns::test {
@@ -499,6 +501,49 @@ TEST(TfliteOps, UnsupportedOpNamesOpIndexModelAndArmnn) {
   EXPECT_NE(err.find("operator 1 (LSH_PROJECTION)"), std::string::npos) << err;
   EXPECT_NE(err.find(".tflite"), std::string::npos) << err;
   EXPECT_NE(err.find("framework=armnn"), std::string::npos) << err;
+}
+
+// TFLite_Detection_PostProcess alone: one anchor, one class. The box encoding 0 decodes to the
+// anchor. Options the kernel cannot run (y_scale 0) are refused when the model is loaded.
+std::vector<uint8_t> detection_model(float y_scale) {
+  flexbuffers::Builder opts;
+  opts.Map([&] {
+    opts.Int("max_detections", 1);
+    opts.Int("max_classes_per_detection", 1);
+    opts.Int("num_classes", 1);
+    opts.Float("nms_score_threshold", 0.f);
+    opts.Float("nms_iou_threshold", 0.5f);
+    opts.Float("y_scale", y_scale);
+    opts.Float("x_scale", 10.f);
+    opts.Float("h_scale", 5.f);
+    opts.Float("w_scale", 5.f);
+  });
+  opts.Finish();
+  TfliteBuilder t;
+  int boxes = t.tensor("boxes", TT::TensorType_FLOAT32, {1, 1, 4});
+  int scores = t.tensor("scores", TT::TensorType_FLOAT32, {1, 1, 2});
+  int anchors = t.constant("anchors", TT::TensorType_FLOAT32, {1, 4},
+                           std::vector<float>{0.5f, 0.4f, 0.2f, 0.6f});
+  int ob = t.tensor("det_boxes", TT::TensorType_FLOAT32, {1, 1, 4});
+  int oc = t.tensor("det_classes", TT::TensorType_FLOAT32, {1, 1});
+  int os = t.tensor("det_scores", TT::TensorType_FLOAT32, {1, 1});
+  int on = t.tensor("num_detections", TT::TensorType_FLOAT32, {1});
+  t.op(tflite::BuiltinOperator_CUSTOM, {boxes, scores, anchors}, {ob, oc, os, on},
+       tflite::BuiltinOptions_NONE, 0, "TFLite_Detection_PostProcess", opts.GetBuffer());
+  return t.finish({boxes, scores}, {ob, oc, os, on});
+}
+
+TEST(TfliteOps, DetectionPostProcessRefusesOptionsTheKernelCannotRun) {
+  REQUIRE_TFLITE();
+  auto out = run(detection_model(10.f),
+                 {bytes_of(std::vector<float>(4, 0.f)), bytes_of(std::vector<float>{0.f, 0.9f})});
+  ASSERT_EQ(out.size(), 4u);
+  expect_near(values_of<float>(out[0]), {0.4f, 0.1f, 0.6f, 0.7f});  // ymin xmin ymax xmax
+  expect_near(values_of<float>(out[2]), {0.9f});
+  expect_near(values_of<float>(out[3]), {1.f});
+  std::string err;
+  EXPECT_TRUE(run(detection_model(0.f), {}, &err).empty());
+  EXPECT_NE(err.find("implausible options"), std::string::npos) << err;
 }
 
 }  // namespace
