@@ -81,6 +81,31 @@ constexpr PropSpec kProps[] = {
      "Suspend (unload) the model after this many ms without data; 0: never"},
 };
 
+// The FilterSettings field of each boolean and number property (one pointer set).
+struct ValueField {
+  FilterProp id;
+  bool FilterSettings::*flag;
+  int FilterSettings::*mode;
+  uint32_t FilterSettings::*count;
+};
+
+constexpr ValueField kValueFields[] = {
+    {FilterProp::kSilent, &FilterSettings::silent, nullptr, nullptr},
+    {FilterProp::kIsUpdatable, &FilterSettings::is_updatable, nullptr, nullptr},
+    {FilterProp::kLatency, nullptr, &FilterSettings::latency_mode, nullptr},
+    {FilterProp::kThroughput, nullptr, &FilterSettings::throughput_mode, nullptr},
+    {FilterProp::kLatencyReport, &FilterSettings::latency_report, nullptr, nullptr},
+    {FilterProp::kInvokeDynamic, &FilterSettings::invoke_dynamic, nullptr, nullptr},
+    {FilterProp::kInvokeAsync, &FilterSettings::invoke_async, nullptr, nullptr},
+    {FilterProp::kSuspend, nullptr, nullptr, &FilterSettings::suspend_ms},
+};
+
+const ValueField *value_field(guint id) {
+  for (const ValueField &f : kValueFields)
+    if (static_cast<guint>(f.id) == id) return &f;
+  return nullptr;
+}
+
 GParamSpec *make_spec(const PropSpec &p, GParamFlags mutable_playing) {
   auto flags = static_cast<GParamFlags>(
       (p.kind == Kind::kReadOnlyString ? G_PARAM_READABLE : G_PARAM_READWRITE) |
@@ -107,65 +132,27 @@ void install_filter_properties(GObjectClass *k, GParamFlags mutable_playing) {
 }
 
 bool set_filter_value(FilterSettings &s, guint id, const GValue *value) {
-  switch (static_cast<FilterProp>(id)) {
-    case FilterProp::kSilent:
-      s.silent = g_value_get_boolean(value);
-      return true;
-    case FilterProp::kIsUpdatable:
-      s.is_updatable = g_value_get_boolean(value);
-      return true;
-    case FilterProp::kLatency:
-      s.latency_mode = g_value_get_int(value);
-      return true;
-    case FilterProp::kThroughput:
-      s.throughput_mode = g_value_get_int(value);
-      return true;
-    case FilterProp::kLatencyReport:
-      s.latency_report = g_value_get_boolean(value);
-      return true;
-    case FilterProp::kInvokeDynamic:
-      s.invoke_dynamic = g_value_get_boolean(value);
-      return true;
-    case FilterProp::kInvokeAsync:
-      s.invoke_async = g_value_get_boolean(value);
-      return true;
-    case FilterProp::kSuspend:
-      s.suspend_ms = g_value_get_uint(value);
-      return true;
-    default:
-      return false;
-  }
+  const ValueField *f = value_field(id);
+  if (!f) return false;
+  if (f->flag)
+    s.*(f->flag) = g_value_get_boolean(value);
+  else if (f->mode)
+    s.*(f->mode) = g_value_get_int(value);
+  else
+    s.*(f->count) = g_value_get_uint(value);
+  return true;
 }
 
 bool get_filter_value(const FilterSettings &s, guint id, GValue *value) {
-  switch (static_cast<FilterProp>(id)) {
-    case FilterProp::kSilent:
-      g_value_set_boolean(value, s.silent);
-      return true;
-    case FilterProp::kIsUpdatable:
-      g_value_set_boolean(value, s.is_updatable);
-      return true;
-    case FilterProp::kLatency:
-      g_value_set_int(value, s.latency_mode);
-      return true;
-    case FilterProp::kThroughput:
-      g_value_set_int(value, s.throughput_mode);
-      return true;
-    case FilterProp::kLatencyReport:
-      g_value_set_boolean(value, s.latency_report);
-      return true;
-    case FilterProp::kInvokeDynamic:
-      g_value_set_boolean(value, s.invoke_dynamic);
-      return true;
-    case FilterProp::kInvokeAsync:
-      g_value_set_boolean(value, s.invoke_async);
-      return true;
-    case FilterProp::kSuspend:
-      g_value_set_uint(value, s.suspend_ms);
-      return true;
-    default:
-      return false;
-  }
+  const ValueField *f = value_field(id);
+  if (!f) return false;
+  if (f->flag)
+    g_value_set_boolean(value, s.*(f->flag));
+  else if (f->mode)
+    g_value_set_int(value, s.*(f->mode));
+  else
+    g_value_set_uint(value, s.*(f->count));
+  return true;
 }
 
 std::string available_filters() {
