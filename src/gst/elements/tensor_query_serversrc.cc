@@ -370,8 +370,13 @@ bool fits(const std::vector<std::size_t> &slot, const nns::edge::Message &m) {
 }
 
 // Up to max-batch requests: the first waiting one, then those that arrive until
-// batch-timeout after it arrived (or the batch is full). Requests that do not fit the slots
-// are dropped with a warning (they would not fit the caps either).
+// batch-timeout after it arrived or, when it was already waiting (it came while the previous
+// batch was being computed), after the server became free (now), or until the batch is full.
+// Counting from the arrival alone lets 8 lockstep clients split into two groups of 4 for
+// good: each group's requests arrive while the other's batch runs, their timeout expires
+// there, and every batch leaves half empty (its padding computed all the same: twice the CPU
+// per frame, measured). Requests that do not fit the slots are dropped with a warning (they
+// would not fit the caps either).
 GstFlowReturn take_batch(GstTensorQueryServerSrc *self, std::vector<nns::edge::Message> *batch) {
   auto *p = self->priv;
   auto sh = p->shared;
@@ -384,6 +389,7 @@ GstFlowReturn take_batch(GstTensorQueryServerSrc *self, std::vector<nns::edge::M
   }
   std::vector<std::string> refused;
   std::unique_lock<std::mutex> l(sh->lock);
+  const Clock::time_point free_at = Clock::now();
   Clock::time_point deadline{};
   while (batch->size() < n) {
     if (batch->empty())
@@ -401,7 +407,7 @@ GstFlowReturn take_batch(GstTensorQueryServerSrc *self, std::vector<nns::edge::M
         refused.push_back("client id " + std::to_string(client_of(m)));
         continue;
       }
-      if (batch->empty()) deadline = at + std::chrono::microseconds(timeout_us);
+      if (batch->empty()) deadline = std::max(at, free_at) + std::chrono::microseconds(timeout_us);
       batch->push_back(std::move(m));
     }
     if (!batch->empty() && Clock::now() >= deadline) break;
