@@ -38,6 +38,20 @@ for name, n in (("dyn", "N"), ("fixed8", 8), ("fixed1", 1)):
     onnx.save(m, out + "/" + name + ".onnx")
 W.tofile(out + "/W.raw")
 B.tofile(out + "/B.raw")
+# The same model as .tflite (tests/data/tflite_writer.py, python3-flatbuffers): x [1,8],
+# FULLY_CONNECTED with weights [4,8] (out, in): a batch of 1 in the file, re-translated at N.
+try:
+    sys.path.insert(0, sys.argv[2])
+    import tflite_writer as tw
+    g = tw.Graph()
+    x = g.tensor("x", (1, 8), np.float32)
+    y = g.tensor("y", (1, 4), np.float32)
+    g.op(tw.FULLY_CONNECTED, [x, g.const("w", W.T.copy()), g.const("b", B)], [y],
+         [(0, "i8", tw.ACT_NONE)])
+    g.inputs, g.outputs = [x], [y]
+    open(out + "/lin.tflite", "wb").write(g.serialize("query batch test"))
+except ImportError:
+    pass
 )PY";
 
 using nns::test::read_file;
@@ -187,8 +201,8 @@ class QueryBatch : public ::testing::Test {
     const std::string dir = nns::test::make_temp_dir();
     const std::string script = dir + "/gen.py";
     std::ofstream(script) << kGen;
-    const std::string cmd =
-        "/usr/bin/python3 " + script + " " + dir + " > " + dir + "/gen.log 2>&1";
+    const std::string cmd = "/usr/bin/python3 " + script + " " + dir + " " + NNS_SOURCE_DIR +
+                            "/tests/data > " + dir + "/gen.log 2>&1";
     if (std::system(cmd.c_str()) == 0) g_dir = dir;
   }
   void SetUp() override {
@@ -249,6 +263,41 @@ TEST_F(QueryBatch, PytorchModelAtBatchEight) {
   gst_structure_free(st);
   EXPECT_EQ(requests, 8u * 20u);
   EXPECT_LT(batches * 2, requests);
+}
+
+// TFLite back end (the model file has a batch of 1; input=8:8 re-translates it at batch 8):
+// 8 clients' answers byte for byte those of an unbatched server running the file as is.
+TEST_F(QueryBatch, TfliteModelAtBatchEightAnswersAsUnbatched) {
+  const std::string so =
+      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_tensorflow2-lite.so";
+  if (!std::ifstream(so)) GTEST_SKIP() << "tflite back end not built (" << so << ")";
+  if (!std::ifstream(g_dir + "/lin.tflite"))
+    NNS_SKIP_UNLESS_CI("/usr/bin/python3 with flatbuffers cannot write the .tflite model");
+  auto server = [&](uint16_t port, int n) {
+    const std::string d = std::to_string(n);
+    return "tensor_query_serversrc name=src host=127.0.0.1 port=" + std::to_string(port) +
+           " max-batch=" + d +
+           " batch-timeout=20000 ! "
+           "other/tensors,format=static,num_tensors=1,dimensions=(string)8:" +
+           d +
+           ",types=float32,framerate=0/1 ! tensor_filter framework=tensorflow-lite model=" + g_dir +
+           "/lin.tflite" + (n > 1 ? " input=8:" + d + " inputtype=float32" : "") +
+           " ! tensor_query_serversink";
+  };
+  const uint16_t p1 = free_port(), p8 = free_port();
+  Child ref(server(p1, 1), "qb_tfl_ref");
+  LocalServer batched(server(p8, 8));
+  ASSERT_TRUE(ref.wait_port(p1)) << ref.log();
+  const auto want = ask(p1, 8, 30);
+  const auto got = ask(p8, 8, 30);
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ(got[c], want[c]) << "client " << c;
+  expect_model(got);
+  GstStructure *st = batched.stats();
+  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
+  gst_structure_free(st);
+  EXPECT_EQ(requests, 8u * 30u);
+  EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
 }
 
 // A model with a fixed batch of 8.
