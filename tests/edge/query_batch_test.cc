@@ -36,6 +36,14 @@ for name, n in (("dyn", "N"), ("fixed8", 8), ("fixed1", 1)):
     m.ir_version = 7
     onnx.checker.check_model(m)
     onnx.save(m, out + "/" + name + ".onnx")
+# Sums over the batch: Y [1,8] whatever N (an answer that cannot be split).
+X = helper.make_tensor_value_info("X", TensorProto.FLOAT, ["N", 8])
+Y = helper.make_tensor_value_info("Y", TensorProto.FLOAT, [1, 8])
+g = helper.make_graph([helper.make_node("ReduceSum", ["X", "axes"], ["Y"], keepdims=1)], "sum0",
+                      [X], [Y], [numpy_helper.from_array(np.array([0], np.int64), "axes")])
+m = helper.make_model(g, opset_imports=[helper.make_opsetid("", 13)])
+m.ir_version = 7
+onnx.save(m, out + "/sum0.onnx")
 W.tofile(out + "/W.raw")
 B.tofile(out + "/B.raw")
 # The same model as .tflite (tests/data/tflite_writer.py, python3-flatbuffers): x [1,8],
@@ -335,6 +343,25 @@ TEST_F(QueryBatch, FixedBatchOneModelRefusesMaxBatch) {
       EXPECT_NE(err.find("float32 8:1 'X'"), std::string::npos) << err;
     }
   }
+}
+
+// A model that does not keep the batch outermost in its answer (sums over it): an error from
+// tensor_query_serversink naming the answer tensor, not answers split into garbage.
+TEST_F(QueryBatch, AnswerWithoutTheBatchIsAnError) {
+  const uint16_t port = free_port();
+  LocalServer s("tensor_query_serversrc host=127.0.0.1 port=" + std::to_string(port) +
+                " max-batch=8 ! other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,"
+                "types=float32,framerate=0/1 ! " +
+                filter("sum0", 8) + "tensor_query_serversink");
+  AppPipeline c(client_desc(port), kInCaps);
+  c.play();
+  c.push(input(0, 0), 0);
+  const std::string err = s.error(10 * GST_SECOND);
+  EXPECT_NE(err.find("a batch of 8 requests (tensor_query_serversrc max-batch) cannot be split: "
+                     "answer tensor 0 is float32 8:1, its outermost dimension must be the batch "
+                     "(8)"),
+            std::string::npos)
+      << err;
 }
 
 // batch-timeout bounds how long a lone request waits for company.
