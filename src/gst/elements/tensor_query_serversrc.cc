@@ -29,6 +29,7 @@
 #include "gst/edge_props.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
+#include "gst/memory_recycler.h"
 #include "gst/query_batch.h"
 #include "gst/tensor_caps.h"
 
@@ -60,6 +61,7 @@ struct ServerSrcPriv {
   // Batching (streaming thread): per-slot byte sizes of each tensor, from the caps.
   std::vector<std::size_t> slot;
   std::atomic<guint64> batches{0}, batched{0}, refused{0};
+  nns::gst::MemoryRecycler stack_mem{16};  // the batches' memories, reused (no fresh pages)
 };
 
 enum {
@@ -239,6 +241,7 @@ static gboolean serversrc_stop(GstBaseSrc *bsrc) {
     gst_object_replace(reinterpret_cast<GstObject **>(&p->shared->src_pad), nullptr);
   }
   p->shared.reset();
+  p->stack_mem.clear();
   return TRUE;
 }
 
@@ -432,9 +435,14 @@ GstBuffer *stack(GstTensorQueryServerSrc *self, std::vector<nns::edge::Message> 
   for (const auto &m : batch) clients.push_back(client_of(m));
   for (std::size_t t = 0; t < p->slot.size(); ++t) {
     const std::size_t sz = p->slot[t];
-    GstMemory *mem = gst_allocator_alloc(nullptr, sz * n, nullptr);
+    GstMemory *mem = p->stack_mem.alloc(sz * n);
     GstMapInfo mi;
-    gst_memory_map(mem, &mi, GST_MAP_WRITE);
+    if (!mem || !gst_memory_map(mem, &mi, GST_MAP_WRITE)) {
+      if (mem) gst_memory_unref(mem);
+      gst_buffer_unref(buf);
+      nns::fail(nns::ErrorKind::kStream,
+                "cannot allocate a batch of " + std::to_string(sz * n) + " bytes");
+    }
     for (std::size_t i = 0; i < batch.size(); ++i)
       memcpy(mi.data + i * sz, batch[i].mems[t]->data(), sz);
     memset(mi.data + batch.size() * sz, 0, (n - batch.size()) * sz);  // unused slots
