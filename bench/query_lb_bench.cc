@@ -73,7 +73,9 @@ int server_main(uint16_t port, int batch, const std::string &timeout_us, const s
                   " ! other/tensors,format=static,num_tensors=1,dimensions=(string)3:224:224:" + b +
                   ",types=uint8,framerate=0/1 ! " + kPre +
                   " ! tensor_filter framework=onnxruntime model=\"" + model +
-                  "\" custom=NumThreads:" + std::to_string(threads);
+                  "\" custom=NumThreads:" + std::to_string(threads) +
+                  // 2 threads beside 8 client processes on 2 cores: no spin-waiting
+                  (threads > 1 ? ",AllowSpinning:false" : "");
   if (batch > 1) d += " input=224:224:3:" + b + " inputtype=float32";
   d += " ! tensor_query_serversink sync=false";
   GstElement *p = launch(d);
