@@ -369,3 +369,45 @@ TEST(QueryBalance, ServerLeavingThroughTheBrokerIsDrainedAndResent) {
   EXPECT_GT(r.sum("resent"), 0u) << "no request was in flight when the server left";
   EXPECT_FALSE(s.procs[0]->exited()) << "the server process itself must still be up";
 }
+
+// A server that dies without stopping (SIGKILL) has its announcement cleared by the broker
+// (its MQTT will: an empty retained message), so clients that come later do not try it.
+TEST(QueryBalance, KilledServerIsForgottenThroughItsWill) {
+  mqtt_test::Broker b;
+  MQTT_REQUIRE_BROKER(b);
+  const std::string topic = "lbw" + std::to_string(getpid());
+  Servers s;
+  for (int i = 0; i < 2; ++i) {
+    const uint16_t port = free_port();
+    s.add(hybrid_server(port, b, topic), port, "lbw");
+  }
+  ASSERT_TRUE(s.wait());
+  // The retained announcements a new subscriber gets: "host:port" per server.
+  auto announced = [&] {
+    std::mutex m;
+    std::set<std::string> got;
+    nns::mqtt::Client sub({"127.0.0.1", b.port(), "lbw_sub_" + std::to_string(getpid()), 60, true},
+                          [&](const std::string &, const uint8_t *data, std::size_t n) {
+                            std::lock_guard<std::mutex> l(m);
+                            if (n > 1)
+                              got.insert(std::string(reinterpret_cast<const char *>(data), n - 1));
+                          });
+    sub.subscribe("edge/inference/+/" + topic + "/#", 1);
+    sub.start();
+    EXPECT_TRUE(sub.wait_connected(5s)) << sub.why();
+    std::this_thread::sleep_for(300ms);
+    sub.stop();
+    std::lock_guard<std::mutex> l(m);
+    return got;
+  };
+  const std::string a = "127.0.0.1:" + std::to_string(s.ports[0]),
+                    c = "127.0.0.1:" + std::to_string(s.ports[1]);
+  std::set<std::string> before;
+  for (int i = 0; i < 20 && before.size() < 2; ++i) before = announced();
+  ASSERT_EQ(before, (std::set<std::string>{a, c}));
+  s.procs[0]->kill_now();
+  std::set<std::string> after = announced();
+  for (int i = 0; i < 10 && after.count(a); ++i) after = announced();
+  EXPECT_EQ(after, std::set<std::string>{c})
+      << "the killed server's announcement stayed: " << b.log();
+}
