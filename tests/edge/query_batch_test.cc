@@ -203,6 +203,27 @@ void expect_model(const std::vector<std::vector<std::vector<uint8_t>>> &answers)
     }
 }
 
+// 8 clients x `frames` to an unbatched server (`ref`, another process) and to a batching one
+// (`batched`, here): answers byte for byte equal, equal to the model computed here, and the
+// requests were really batched.
+void expect_batched_as_unbatched(const std::string &ref_desc, uint16_t ref_port,
+                                 const std::string &batched_desc, uint16_t batched_port,
+                                 int frames) {
+  Child ref(ref_desc, "qb_ref");
+  LocalServer batched(batched_desc);
+  ASSERT_TRUE(ref.wait_port(ref_port)) << ref.log();
+  const auto want = ask(ref_port, 8, frames);
+  const auto got = ask(batched_port, 8, frames);
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ(got[c], want[c]) << "client " << c;
+  expect_model(got);
+  GstStructure *st = batched.stats();
+  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
+  gst_structure_free(st);
+  EXPECT_EQ(requests, 8u * static_cast<guint64>(frames));
+  EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
+}
+
 class QueryBatch : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -229,19 +250,8 @@ TEST(EdgeChild, Run) {
 // the model computed here, and the requests were really batched.
 TEST_F(QueryBatch, DynamicBatchModelAnswersAsUnbatched) {
   const uint16_t p1 = free_port(), p8 = free_port();
-  Child ref(server_desc(p1, 1, 0, "dyn"), "qb_ref");
-  LocalServer batched(server_desc(p8, 8, 20000, "dyn"));
-  ASSERT_TRUE(ref.wait_port(p1)) << ref.log();
-  const auto want = ask(p1, 8, 40);
-  const auto got = ask(p8, 8, 40);
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ(got[c], want[c]) << "client " << c;
-  expect_model(got);
-  GstStructure *st = batched.stats();
-  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
-  gst_structure_free(st);
-  EXPECT_EQ(requests, 8u * 40u);
-  EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
+  expect_batched_as_unbatched(server_desc(p1, 1, 0, "dyn"), p1, server_desc(p8, 8, 20000, "dyn"),
+                              p8, 40);
 }
 
 // PyTorch back end: a TorchScript module run at batch 8 (input=8:8), 8 clients.
@@ -293,19 +303,7 @@ TEST_F(QueryBatch, TfliteModelAtBatchEightAnswersAsUnbatched) {
            " ! tensor_query_serversink";
   };
   const uint16_t p1 = free_port(), p8 = free_port();
-  Child ref(server(p1, 1), "qb_tfl_ref");
-  LocalServer batched(server(p8, 8));
-  ASSERT_TRUE(ref.wait_port(p1)) << ref.log();
-  const auto want = ask(p1, 8, 30);
-  const auto got = ask(p8, 8, 30);
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ(got[c], want[c]) << "client " << c;
-  expect_model(got);
-  GstStructure *st = batched.stats();
-  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
-  gst_structure_free(st);
-  EXPECT_EQ(requests, 8u * 30u);
-  EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
+  expect_batched_as_unbatched(server(p1, 1), p1, server(p8, 8), p8, 30);
 }
 
 // A model with a fixed batch of 8.
