@@ -391,23 +391,24 @@ TEST_F(QueryBatch, TimeoutBoundsALoneRequest) {
 }
 
 // batch-timeout counts from when the server is free for a request that was already waiting:
-// b arrives while a's batch is computed (identity sleeps 300 ms), and c, sent when a's answer
-// came, still joins b's batch. (Counting from b's arrival, b left alone at once: lockstep
-// clients then split into groups that never meet, every batch half padding.)
+// b arrives while a's batch is computed (identity sleeps 500 ms), and c, sent when a's answer
+// came, still joins b's batch (400 ms of margin for c's connection under load). (Counting from b's
+// arrival, b left alone at once: lockstep clients then split into groups that never meet, every
+// batch half padding.)
 TEST_F(QueryBatch, RequestWaitingWhileBusyWaitsForCompany) {
   const uint16_t port = free_port();
   LocalServer s("tensor_query_serversrc name=src host=127.0.0.1 port=" + std::to_string(port) +
-                " max-batch=2 batch-timeout=200000 ! other/tensors,format=static,num_tensors=1,"
+                " max-batch=2 batch-timeout=400000 ! other/tensors,format=static,num_tensors=1,"
                 "dimensions=(string)8:2,types=float32,framerate=0/1 ! " +
-                filter("dyn", 2) + "identity sleep-time=300000 ! tensor_query_serversink");
+                filter("dyn", 2) + "identity sleep-time=500000 ! tensor_query_serversink");
   AppPipeline a(client_desc(port), kInCaps), b(client_desc(port), kInCaps),
       c(client_desc(port), kInCaps);
   a.play();
   b.play();
   c.play();
   std::vector<uint8_t> got;
-  a.push(input(0, 0), 0);  // alone: leaves after 200 ms, computed until ~500 ms
-  std::this_thread::sleep_for(300ms);
+  a.push(input(0, 0), 0);  // alone: leaves after 400 ms, computed until ~900 ms
+  std::this_thread::sleep_for(500ms);
   b.push(input(1, 0), 0);  // waits while a's batch is computed
   ASSERT_TRUE(a.pull(&got)) << joined(a.messages(GST_MESSAGE_ERROR));
   c.push(input(2, 0), 0);  // the server is free now: c joins b
