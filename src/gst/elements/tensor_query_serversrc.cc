@@ -525,8 +525,9 @@ static void gst_tensor_query_serversrc_class_init(GstTensorQueryServerSrcClass *
   g_object_class_install_property(
       gobject, PROP_BATCH_TIMEOUT,
       g_param_spec_uint64("batch-timeout", "Batch timeout",
-                          "Microseconds a request waits for others to fill its batch (0: only "
-                          "those already waiting join it)",
+                          "Microseconds the first request of a batch waits for others, from its "
+                          "arrival or from when the server is free if it was already waiting "
+                          "(0: only those already waiting join it)",
                           0, G_MAXUINT64, 0, rw));
   g_object_class_install_property(
       gobject, PROP_STATS,
