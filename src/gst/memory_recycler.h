@@ -33,7 +33,8 @@ class MemoryRecycler {
     for (GstMemory *mem : kept_) {
       gsize offset = 0, max = 0;
       const gsize cur = gst_memory_get_sizes(mem, &offset, &max);
-      if (GST_MINI_OBJECT_REFCOUNT_VALUE(mem) == 1 && cur == size && offset == 0)
+      if (GST_MINI_OBJECT_REFCOUNT_VALUE(mem) == 1 && cur == size && offset == 0 &&
+          !GST_MEMORY_IS_READONLY(mem))
         return gst_memory_ref(mem);
     }
     GstMemory *mem = gst_allocator_alloc(nullptr, size, nullptr);

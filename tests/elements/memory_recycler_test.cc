@@ -35,6 +35,12 @@ TEST(MemoryRecycler, ReusesOnlyWhatNothingElseHolds) {
   gst_memory_unref(part);
   gst_memory_unref(c);
   gst_memory_unref(d);
+  GstMemory *f = r.alloc(1000);  // marked read-only by its user: never handed out again
+  GST_MINI_OBJECT_FLAG_SET(f, GST_MEMORY_FLAG_READONLY);
+  gst_memory_unref(f);
+  GstMemory *g = r.alloc(1000);
+  EXPECT_NE(g, f);
+  gst_memory_unref(g);
   GstMemory *e = r.alloc(999);  // another size: a new one (keep=2 drops the oldest kept)
   gsize size = gst_memory_get_sizes(e, nullptr, nullptr);
   EXPECT_EQ(size, 999u);
