@@ -12,8 +12,6 @@
 // median over rounds is reported (the 2-core machine is shared).
 //
 // usage: ort_pipeline_bench [--frames N] [--runs R] [--threads T] [--model PATH]
-#include <dlfcn.h>
-#include <time.h>
 #include <gst/gst.h>
 
 #include <algorithm>
@@ -27,20 +25,18 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.h"
+#include "filter_direct.h"
 #include "gst/plugin_init.h"
-#include "nns_filter_backend.h"
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// CPU seconds used by the whole process (every thread): the figure that stays meaningful when
-// the shared machine is loaded.
-double cpu_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
+using nns::bench::Clock;
+using nns::bench::median;
+using nns::bench::open_direct;
+// Process CPU seconds (every thread): the figure that stays meaningful when the shared machine
+// is loaded.
+using nns::bench::cpu_seconds;
 
 // Frames per wall second and process CPU milliseconds per frame.
 struct Rate {
@@ -57,11 +53,6 @@ struct Opts {
   std::string model;
   std::string input;
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
-}
 
 std::vector<uint8_t> read_all(const std::string &p) {
   std::ifstream f(p, std::ios::binary);
@@ -82,40 +73,7 @@ std::vector<float> make_input(const std::string &raw_path) {
   return chw;
 }
 
-struct Direct {
-  const nns_filter_backend_i *api = nullptr;
-  void *priv = nullptr;
-};
-
-bool open_direct(const std::string &so, const std::string &model, const std::string &custom,
-                 Direct &d) {
-  void *h = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!h) {
-    std::fprintf(stderr, "dlopen %s: %s\n", so.c_str(), dlerror());
-    return false;
-  }
-  auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
-  d.api = entry ? entry() : nullptr;
-  if (!d.api) return false;
-  const char *files[] = {model.c_str()};
-  nns_tensors_desc none{};
-  tensor_layout layouts[NNS_TENSOR_SIZE_LIMIT] = {};
-  nns_filter_props p{};
-  p.framework = "onnxruntime";
-  p.model_files = files;
-  p.num_models = 1;
-  p.input = &none;
-  p.output = &none;
-  p.custom = custom.c_str();
-  p.input_layout = layouts;
-  p.output_layout = layouts;
-  char err[512] = {0};
-  if (d.api->open(&p, &d.priv, err, sizeof(err)) != 0) {
-    std::fprintf(stderr, "open: %s\n", err);
-    return false;
-  }
-  return true;
-}
+using Direct = nns::bench::DirectFilter;
 
 // Invokes `frames` times (after kWarm untimed invokes).
 Rate direct_rate(Direct &d, std::vector<float> &in, int frames) {
@@ -123,11 +81,11 @@ Rate direct_rate(Direct &d, std::vector<float> &in, int frames) {
   GstTensorMemory i = {in.data(), in.size() * 4}, o = {out.data(), out.size() * 4};
   char err[256];
   for (int k = 0; k < kWarm; ++k) d.api->invoke(d.priv, &i, 1, &o, 1, err, sizeof(err));
-  double c0 = cpu_now();
+  double c0 = cpu_seconds();
   auto t0 = Clock::now();
   for (int k = 0; k < frames; ++k) d.api->invoke(d.priv, &i, 1, &o, 1, err, sizeof(err));
   double s = std::chrono::duration<double>(Clock::now() - t0).count();
-  return {frames / s, (cpu_now() - c0) * 1e3 / frames};
+  return {frames / s, (cpu_seconds() - c0) * 1e3 / frames};
 }
 
 double direct_fps(Direct &d, std::vector<float> &in, int frames) {
@@ -159,12 +117,12 @@ GstPadProbeReturn count_buffer(GstPad *, GstPadProbeInfo *, gpointer data) {
   auto *w = static_cast<Window *>(data);
   int k = ++w->n;
   if (k == kWarm) {
-    w->c0 = cpu_now();
+    w->c0 = cpu_seconds();
     w->t0 = Clock::now();
   }
   if (k == w->total) {
     w->t1 = Clock::now();
-    w->c1 = cpu_now();
+    w->c1 = cpu_seconds();
   }
   return GST_PAD_PROBE_OK;
 }
@@ -241,9 +199,7 @@ int main(int argc, char **argv) {
     else if (k == "--model")
       o.model = v;
   }
-  std::string so = std::string(NNS_BUILD_DIR) +
-                   "/subplugins/filters/"
-                   "libnnstreamer_filter_onnxruntime.so";
+  std::string so = nns::bench::filter_so("onnxruntime");
   std::vector<float> in = make_input(o.input);
   if (in.empty() || !std::ifstream(o.model) || !std::ifstream(so)) {
     std::printf("ort_pipeline_bench: skipped (needs %s, %s and %s)\n", o.model.c_str(),
@@ -258,8 +214,9 @@ int main(int argc, char **argv) {
 
   const std::string custom = "NumThreads:" + std::to_string(o.threads);
   Direct d1, d2, d3;
-  if (!open_direct(so, o.model, custom, d1) || !open_direct(so, o.model, "NumThreads:1", d2) ||
-      !open_direct(so, o.model, "NumThreads:1", d3))
+  if (!open_direct(so, "onnxruntime", o.model, custom, d1) ||
+      !open_direct(so, "onnxruntime", o.model, "NumThreads:1", d2) ||
+      !open_direct(so, "onnxruntime", o.model, "NumThreads:1", d3))
     return 1;
   GstBuffer *buf = gst_buffer_new_memdup(in.data(), in.size() * 4);
   std::string filter = "tensor_filter framework=onnxruntime model=\"" + o.model + "\"";

@@ -65,6 +65,33 @@ inline GstElement *launch(const std::string &d) {
   return p;
 }
 
+// Waits (at most 30 s) for EOS or an error on `p`'s bus; an error is printed as "client: ...".
+// False when an error came.
+inline bool wait_eos(GstElement *p) {
+  GstBus *bus = gst_element_get_bus(p);
+  GstMessage *m = gst_bus_timed_pop_filtered(
+      bus, 30 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
+  const bool error = m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR;
+  if (error) {
+    GError *e = nullptr;
+    gst_message_parse_error(m, &e, nullptr);
+    std::fprintf(stderr, "client: %s\n", e->message);
+    g_error_free(e);
+  }
+  if (m) gst_message_unref(m);
+  gst_object_unref(bus);
+  return !error;
+}
+
+// A child's handshake: prints "ready", then waits for a line from the parent. False when stdin
+// closed instead.
+inline bool ready_then_wait_go() {
+  std::printf("ready\n");
+  std::fflush(stdout);
+  char go[16];
+  return std::fgets(go, sizeof go, stdin) != nullptr;
+}
+
 inline std::vector<uint8_t> read_all(const std::string &p) {
   std::ifstream f(p, std::ios::binary);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(f), {});

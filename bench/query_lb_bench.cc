@@ -124,25 +124,12 @@ int client_main(const std::string &dest, int frames, const std::string &policy,
   for (int i = 0; i < kWarm; ++i) push();
   g_usleep(300000);
   pr.timed_from = n * GST_MSECOND;
-  std::printf("ready\n");
-  std::fflush(stdout);
-  char go[16];
-  if (!std::fgets(go, sizeof go, stdin)) return 1;
+  if (!ready_then_wait_go()) return 1;
   const double c0 = cpu_s();
   const int64_t t0 = now_ns();
   for (int i = 0; i < frames; ++i) push();
   gst_app_src_end_of_stream(GST_APP_SRC(src));
-  GstBus *bus = gst_element_get_bus(p);
-  GstMessage *m = gst_bus_timed_pop_filtered(
-      bus, 30 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-  if (m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-    GError *e = nullptr;
-    gst_message_parse_error(m, &e, nullptr);
-    std::fprintf(stderr, "client: %s\n", e->message);
-    g_error_free(e);
-  }
-  if (m) gst_message_unref(m);
-  gst_object_unref(bus);
+  wait_eos(p);  // an error is printed; the answers counted so far are reported all the same
   std::lock_guard<std::mutex> l(pr.m);
   std::printf("result answers=%d t0=%lld t1=%lld cpu=%.3f rtt", pr.timed.load(),
               static_cast<long long>(t0), static_cast<long long>(pr.last_answer.load()),

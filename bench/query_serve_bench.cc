@@ -189,26 +189,12 @@ int client_main(uint16_t port, const std::string &mode, int frames, int win, int
     g_usleep(200000);
     const guint64 dropped0 = stat(qc, "dropped");
     probes.timed_from = pts * GST_MSECOND;
-    std::printf("ready\n");
-    std::fflush(stdout);
-    char go[16];
-    if (!std::fgets(go, sizeof go, stdin)) return 1;
+    if (!ready_then_wait_go()) return 1;
     const double c0 = cpu_s();
     const int64_t t0 = now_ns();
     const int sent = send_frames(f, qc, probes, frame, &pts, frames, window, win, poll_us);
     f.eos();  // pushes what is still in flight (the client waits for it at EOS)
-    GstBus *bus = gst_element_get_bus(p);
-    GstMessage *m = gst_bus_timed_pop_filtered(
-        bus, 30 * GST_SECOND, static_cast<GstMessageType>(GST_MESSAGE_EOS | GST_MESSAGE_ERROR));
-    if (m && GST_MESSAGE_TYPE(m) == GST_MESSAGE_ERROR) {
-      GError *e = nullptr;
-      gst_message_parse_error(m, &e, nullptr);
-      std::fprintf(stderr, "client: %s\n", e->message);
-      g_error_free(e);
-      rc = 1;
-    }
-    if (m) gst_message_unref(m);
-    gst_object_unref(bus);
+    if (!wait_eos(p)) rc = 1;
     std::lock_guard<std::mutex> l(probes.m);
     std::printf(
         "result sent=%d answers=%d dropped=%llu t0=%lld t1=%lld p50=%.1f p99=%.1f label=%d "

@@ -8,7 +8,6 @@
 // shared). Target: tflite/onnx <= 1.3 at each thread count.
 //
 // usage: tflite_bench [--frames N] [--runs R]
-#include <dlfcn.h>
 #include <gst/gst.h>
 
 #include <chrono>
@@ -19,50 +18,24 @@
 #include <vector>
 
 #include "bench_util.h"
+#include "filter_direct.h"
 #include "gst/plugin_init.h"
-#include "nns_filter_backend.h"
 
 namespace {
 
 using nns::bench::Clock;
 using nns::bench::median;
 
-struct Direct {
-  const nns_filter_backend_i *api = nullptr;
-  void *priv = nullptr;
+// A back end opened directly, with its input (filled with 100) and output buffers.
+struct Direct : nns::bench::DirectFilter {
   std::vector<uint8_t> in, out;
 };
 
 bool open_direct(const std::string &backend, const std::string &model, int threads, Direct &d,
                  std::size_t in_bytes, std::size_t out_bytes) {
-  std::string so =
-      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_" + backend + ".so";
-  void *h = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!h) {
-    std::fprintf(stderr, "dlopen %s: %s\n", so.c_str(), dlerror());
+  if (!nns::bench::open_direct(nns::bench::filter_so(backend), backend.c_str(), model,
+                               "NumThreads:" + std::to_string(threads), d))
     return false;
-  }
-  auto entry = reinterpret_cast<nns_filter_backend_entry_fn>(dlsym(h, NNS_FILTER_BACKEND_ENTRY));
-  d.api = entry ? entry() : nullptr;
-  if (!d.api) return false;
-  const char *files[] = {model.c_str()};
-  nns_tensors_desc none{};
-  tensor_layout layouts[NNS_TENSOR_SIZE_LIMIT] = {};
-  std::string custom = "NumThreads:" + std::to_string(threads);
-  nns_filter_props p{};
-  p.framework = backend.c_str();
-  p.model_files = files;
-  p.num_models = 1;
-  p.input = &none;
-  p.output = &none;
-  p.custom = custom.c_str();
-  p.input_layout = layouts;
-  p.output_layout = layouts;
-  char err[1024] = {0};
-  if (d.api->open(&p, &d.priv, err, sizeof(err)) != 0) {
-    std::fprintf(stderr, "open %s: %s\n", model.c_str(), err);
-    return false;
-  }
   d.in.assign(in_bytes, 100);
   d.out.assign(out_bytes, 0);
   return true;

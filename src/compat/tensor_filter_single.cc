@@ -22,40 +22,11 @@
 #include "core/filter_desc.h"
 #include "core/filter_instance.h"
 #include "core/filter_registry.h"
-#include "gst/filter_settings.h"
+#include "gst/filter_properties.h"
 
 namespace {
 
-enum {
-  PROP_0,
-  PROP_SILENT,
-  PROP_FRAMEWORK,
-  PROP_MODEL,
-  PROP_INPUT,
-  PROP_INPUTTYPE,
-  PROP_INPUTNAME,
-  PROP_INPUTLAYOUT,
-  PROP_INPUTRANKS,
-  PROP_OUTPUT,
-  PROP_OUTPUTTYPE,
-  PROP_OUTPUTNAME,
-  PROP_OUTPUTLAYOUT,
-  PROP_OUTPUTRANKS,
-  PROP_CUSTOM,
-  PROP_SUBPLUGINS,
-  PROP_ACCELERATOR,
-  PROP_IS_UPDATABLE,
-  PROP_LATENCY,
-  PROP_THROUGHPUT,
-  PROP_INPUT_COMBINATION,
-  PROP_OUTPUT_COMBINATION,
-  PROP_SHARED_KEY,
-  PROP_LATENCY_REPORT,
-  PROP_INVOKE_DYNAMIC,
-  PROP_CONFIG_FILE,
-  PROP_SUSPEND,
-  PROP_INVOKE_ASYNC,
-};
+using nns::gst::FilterProp;
 
 struct Priv {
   std::mutex mu;
@@ -262,106 +233,52 @@ void set_property(GObject *object, guint id, const GValue *value, GParamSpec *ps
   if (std::string *str = nns::gst::string_setting(s, g_param_spec_get_name(pspec))) {
     const gchar *v = g_value_get_string(value);
     *str = v ? v : "";
-    return;
-  }
-  switch (id) {
-    case PROP_SILENT:
-      s.silent = g_value_get_boolean(value);
-      break;
-    case PROP_IS_UPDATABLE:
-      s.is_updatable = g_value_get_boolean(value);
-      break;
-    case PROP_LATENCY:
-      s.latency_mode = g_value_get_int(value);
-      break;
-    case PROP_THROUGHPUT:
-      s.throughput_mode = g_value_get_int(value);
-      break;
-    case PROP_LATENCY_REPORT:
-      s.latency_report = g_value_get_boolean(value);
-      break;
-    case PROP_INVOKE_DYNAMIC:
-      s.invoke_dynamic = g_value_get_boolean(value);
-      break;
-    case PROP_SUSPEND:
-      s.suspend_ms = g_value_get_uint(value);
-      break;
-    case PROP_INVOKE_ASYNC:
-      s.invoke_async = g_value_get_boolean(value);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+  } else if (!nns::gst::set_filter_value(s, id, value)) {
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
 
+// After start, the tensor properties read back the model's tensors; before, what was set.
 void get_property(GObject *object, guint id, GValue *value, GParamSpec *pspec) {
   Priv *p = priv_of(G_TENSOR_FILTER_SINGLE(object));
   std::lock_guard lk(p->mu);
   nns::gst::FilterSettings &s = p->s;
   const bool in_known = p->inst && p->in.size() > 0, out_known = p->inst && p->out.size() > 0;
   try {
-    switch (id) {
-      case PROP_INPUT:
+    switch (static_cast<FilterProp>(id)) {
+      case FilterProp::kInput:
         if (in_known) return g_value_set_string(value, p->in.dims_string().c_str());
         break;
-      case PROP_INPUTTYPE:
+      case FilterProp::kInputType:
         if (in_known) return g_value_set_string(value, p->in.types_string().c_str());
         break;
-      case PROP_INPUTNAME:
+      case FilterProp::kInputName:
         if (in_known) return g_value_set_string(value, p->in.names_string().c_str());
         break;
-      case PROP_OUTPUT:
+      case FilterProp::kOutput:
         if (out_known) return g_value_set_string(value, p->out.dims_string().c_str());
         break;
-      case PROP_OUTPUTTYPE:
+      case FilterProp::kOutputType:
         if (out_known) return g_value_set_string(value, p->out.types_string().c_str());
         break;
-      case PROP_OUTPUTNAME:
+      case FilterProp::kOutputName:
         if (out_known) return g_value_set_string(value, p->out.names_string().c_str());
         break;
-      case PROP_INPUTRANKS:
+      case FilterProp::kInputRanks:
         return g_value_set_string(value, in_known ? nns::gst::ranks_string(p->in).c_str() : "");
-      case PROP_OUTPUTRANKS:
+      case FilterProp::kOutputRanks:
         return g_value_set_string(value, out_known ? nns::gst::ranks_string(p->out).c_str() : "");
-      case PROP_SUBPLUGINS: {
-        auto names = nns::FilterRegistry::get().available(*nns::current_filter_conf());
-        return g_value_set_string(value, nns::join(names, ",").c_str());
-      }
+      case FilterProp::kSubPlugins:
+        return g_value_set_string(value, nns::gst::available_filters().c_str());
       default:
         break;
     }
   } catch (...) {
   }
   if (std::string *str = nns::gst::string_setting(s, g_param_spec_get_name(pspec)))
-    return g_value_set_string(value, str->c_str());
-  switch (id) {
-    case PROP_SILENT:
-      g_value_set_boolean(value, s.silent);
-      break;
-    case PROP_IS_UPDATABLE:
-      g_value_set_boolean(value, s.is_updatable);
-      break;
-    case PROP_LATENCY:
-      g_value_set_int(value, s.latency_mode);
-      break;
-    case PROP_THROUGHPUT:
-      g_value_set_int(value, s.throughput_mode);
-      break;
-    case PROP_LATENCY_REPORT:
-      g_value_set_boolean(value, s.latency_report);
-      break;
-    case PROP_INVOKE_DYNAMIC:
-      g_value_set_boolean(value, s.invoke_dynamic);
-      break;
-    case PROP_SUSPEND:
-      g_value_set_uint(value, s.suspend_ms);
-      break;
-    case PROP_INVOKE_ASYNC:
-      g_value_set_boolean(value, s.invoke_async);
-      break;
-    default:
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-  }
+    g_value_set_string(value, str->c_str());
+  else if (!nns::gst::get_filter_value(s, id, value))
+    G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
 }
 
 void finalize(GObject *object) {
@@ -378,60 +295,15 @@ void finalize(GObject *object) {
   G_OBJECT_CLASS(parent_class)->finalize(object);
 }
 
-void install_string(GObjectClass *k, guint id, const char *name, const char *def, const char *blurb,
-                    bool writable = true) {
-  auto flags = static_cast<GParamFlags>((writable ? G_PARAM_READWRITE : G_PARAM_READABLE) |
-                                        G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(k, id, g_param_spec_string(name, name, blurb, def, flags));
-}
-
-void install_bool(GObjectClass *k, guint id, const char *name, gboolean def, const char *blurb) {
-  g_object_class_install_property(
-      k, id,
-      g_param_spec_boolean(name, name, blurb, def,
-                           static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS)));
-}
-
 void class_init(gpointer klass, gpointer) {
   parent_class = g_type_class_peek_parent(klass);
   auto *k = G_OBJECT_CLASS(klass);
   k->set_property = set_property;
   k->get_property = get_property;
   k->finalize = finalize;
-  const auto rw = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS);
-  install_bool(k, PROP_SILENT, "silent", TRUE, "Produce verbose output");
-  install_string(k, PROP_FRAMEWORK, "framework", "auto", "Neural network framework");
-  install_string(k, PROP_MODEL, "model", "", "Model file path(s), comma separated");
-  install_string(k, PROP_INPUT, "input", "", "Input tensor dimensions");
-  install_string(k, PROP_INPUTTYPE, "inputtype", "", "Input tensor types");
-  install_string(k, PROP_INPUTNAME, "inputname", "", "Input tensor names");
-  install_string(k, PROP_INPUTLAYOUT, "inputlayout", "", "Input tensor layouts");
-  install_string(k, PROP_INPUTRANKS, "inputranks", "", "Input tensor ranks", false);
-  install_string(k, PROP_OUTPUT, "output", "", "Output tensor dimensions");
-  install_string(k, PROP_OUTPUTTYPE, "outputtype", "", "Output tensor types");
-  install_string(k, PROP_OUTPUTNAME, "outputname", "", "Output tensor names");
-  install_string(k, PROP_OUTPUTLAYOUT, "outputlayout", "", "Output tensor layouts");
-  install_string(k, PROP_OUTPUTRANKS, "outputranks", "", "Output tensor ranks", false);
-  install_string(k, PROP_CUSTOM, "custom", "", "Custom properties for the framework");
-  install_string(k, PROP_SUBPLUGINS, "sub-plugins", "", "Available filter back ends", false);
-  install_string(k, PROP_ACCELERATOR, "accelerator", "", "Accelerators to use");
-  install_bool(k, PROP_IS_UPDATABLE, "is-updatable", FALSE, "The model may be reloaded");
-  g_object_class_install_property(
-      k, PROP_LATENCY, g_param_spec_int("latency", "latency", "Latency mode", -1, 1, 0, rw));
-  g_object_class_install_property(
-      k, PROP_THROUGHPUT,
-      g_param_spec_int("throughput", "throughput", "Throughput mode", -1, 1, 0, rw));
-  install_string(k, PROP_INPUT_COMBINATION, "input-combination", "", "Model inputs");
-  install_string(k, PROP_OUTPUT_COMBINATION, "output-combination", "", "Output tensors");
-  install_string(k, PROP_SHARED_KEY, "shared-tensor-filter-key", "", "Shared model key");
-  install_bool(k, PROP_LATENCY_REPORT, "latency-report", FALSE, "Report latency upstream");
-  install_bool(k, PROP_INVOKE_DYNAMIC, "invoke-dynamic", FALSE, "Flexible outputs per invoke");
-  install_string(k, PROP_CONFIG_FILE, "config-file", "", "Property file");
-  g_object_class_install_property(
-      k, PROP_SUSPEND,
-      g_param_spec_uint("suspend", "suspend", "Idle time (ms) before suspending", 0, G_MAXUINT, 0,
-                        rw));
-  install_bool(k, PROP_INVOKE_ASYNC, "invoke-async", FALSE, "Outputs through a callback");
+  // tensor_filter's properties, as upstream's GTensorFilterSingle installs them; no states, so
+  // nothing is marked mutable in PLAYING.
+  nns::gst::install_filter_properties(k, static_cast<GParamFlags>(0));
   auto *sk = static_cast<GTensorFilterSingleClass *>(klass);
   sk->invoke = single_invoke;
   sk->start = single_start;

@@ -93,4 +93,37 @@ void CompatProps::set_output(const GstTensorsInfo &i) {
   fill_ranks(prop_.output_meta, prop_.output_ranks);
 }
 
+int CompatProps::query_model_info(nns_tensors_desc *in, nns_tensors_desc *out,
+                                  const InfoCall &query) {
+  GstTensorsInfo gi, go;
+  gst_info_init(&gi);
+  gst_info_init(&go);
+  int rc = query(&gi, &go);
+  if (rc == 0) {
+    desc_from_gst_info(&gi, *in);
+    desc_from_gst_info(&go, *out);
+    set_input(*in);
+    set_output(*out);
+  }
+  gst_info_clear(&gi);
+  gst_info_clear(&go);
+  return rc;
+}
+
+int CompatProps::negotiate_input(const nns_tensors_desc &in, nns_tensors_desc *out,
+                                 const InfoCall &set) {
+  GstTensorsInfo gi, go;
+  gst_info_from_desc(in, &gi);
+  gst_info_init(&go);
+  int rc = set(&gi, &go);
+  if (rc == 0) {
+    desc_from_gst_info(&go, *out);
+    set_input(in);
+    set_output(*out);
+  }
+  gst_info_clear(&gi);
+  gst_info_clear(&go);
+  return rc;
+}
+
 }  // namespace nns

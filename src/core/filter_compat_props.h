@@ -3,6 +3,7 @@
 // the back-end ABI's nns_filter_props, for the built-in custom, custom-easy and cpp back ends.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ class CompatProps {
   void set_output(const nns_tensors_desc &d);
   void set_input(const GstTensorsInfo &i);
   void set_output(const GstTensorsInfo &i);
+  // 2.x callbacks that fill GstTensorsInfo: `query(in, out)` (getInputDim + getOutputDim, ...)
+  // or `set(in, out)` with `in` given (setInputDim, ...) returns 0 on success; then the tensors
+  // are copied to *in / *out and recorded here. Returns the callback's code.
+  using InfoCall = std::function<int(GstTensorsInfo *in, GstTensorsInfo *out)>;
+  int query_model_info(nns_tensors_desc *in, nns_tensors_desc *out, const InfoCall &query);
+  int negotiate_input(const nns_tensors_desc &in, nns_tensors_desc *out, const InfoCall &set);
   // invoke-async state (prop_.async_user_data points at it).
   CompatAsync &async() { return async_; }
 

@@ -148,19 +148,10 @@ int cpp_model_info(void *priv, nns_tensors_desc *in, nns_tensors_desc *out, char
   std::lock_guard lk(c->entry->call_mu);
   tensor_filter_cpp *o = c->entry->obj;
   A::set_prop(o, c->props->get());
-  GstTensorsInfo gi, go;
-  gst_info_init(&gi);
-  gst_info_init(&go);
-  int rc = o->getInputDim(&gi);
-  if (rc == 0) rc = o->getOutputDim(&go);
-  if (rc == 0) {
-    desc_from_gst_info(&gi, *in);
-    desc_from_gst_info(&go, *out);
-    c->props->set_input(*in);
-    c->props->set_output(*out);
-  }
-  gst_info_clear(&gi);
-  gst_info_clear(&go);
+  int rc = c->props->query_model_info(in, out, [o](GstTensorsInfo *gi, GstTensorsInfo *go) {
+    int r = o->getInputDim(gi);
+    return r == 0 ? o->getOutputDim(go) : r;
+  });
   return rc == 0 ? 0 : -ENOTSUP;  // non-zero: ask setInputDim
 }
 
@@ -170,17 +161,8 @@ int cpp_set_input(void *priv, const nns_tensors_desc *in, nns_tensors_desc *out,
   std::lock_guard lk(c->entry->call_mu);
   tensor_filter_cpp *o = c->entry->obj;
   A::set_prop(o, c->props->get());
-  GstTensorsInfo gi, go;
-  gst_info_from_desc(*in, &gi);
-  gst_info_init(&go);
-  int rc = o->setInputDim(&gi, &go);
-  if (rc == 0) {
-    desc_from_gst_info(&go, *out);
-    c->props->set_input(*in);
-    c->props->set_output(*out);
-  }
-  gst_info_clear(&gi);
-  gst_info_clear(&go);
+  int rc = c->props->negotiate_input(
+      *in, out, [o](GstTensorsInfo *gi, GstTensorsInfo *go) { return o->setInputDim(gi, go); });
   if (rc != 0)
     return set_err(err, len,
                    "cpp filter '" + c->name + "': setInputDim returned " + std::to_string(rc));

@@ -93,19 +93,10 @@ int custom_model_info(void *priv, nns_tensors_desc *in, nns_tensors_desc *out, c
                       size_t len) {
   auto *c = static_cast<CustomSo *>(priv);
   if (!c->cls->getInputDim || !c->cls->getOutputDim) return -ENOTSUP;
-  GstTensorsInfo gi, go;
-  gst_info_init(&gi);
-  gst_info_init(&go);
-  int rc = c->cls->getInputDim(c->data, c->props->get(), &gi);
-  if (rc == 0) rc = c->cls->getOutputDim(c->data, c->props->get(), &go);
-  if (rc == 0) {
-    desc_from_gst_info(&gi, *in);
-    desc_from_gst_info(&go, *out);
-    c->props->set_input(*in);
-    c->props->set_output(*out);
-  }
-  gst_info_clear(&gi);
-  gst_info_clear(&go);
+  int rc = c->props->query_model_info(in, out, [c](GstTensorsInfo *gi, GstTensorsInfo *go) {
+    int r = c->cls->getInputDim(c->data, c->props->get(), gi);
+    return r == 0 ? c->cls->getOutputDim(c->data, c->props->get(), go) : r;
+  });
   if (rc != 0)
     return set_err(
         err, len,
@@ -117,17 +108,9 @@ int custom_set_input(void *priv, const nns_tensors_desc *in, nns_tensors_desc *o
                      size_t len) {
   auto *c = static_cast<CustomSo *>(priv);
   if (!c->cls->setInputDim) return -ENOTSUP;
-  GstTensorsInfo gi, go;
-  gst_info_from_desc(*in, &gi);
-  gst_info_init(&go);
-  int rc = c->cls->setInputDim(c->data, c->props->get(), &gi, &go);
-  if (rc == 0) {
-    desc_from_gst_info(&go, *out);
-    c->props->set_input(*in);
-    c->props->set_output(*out);
-  }
-  gst_info_clear(&gi);
-  gst_info_clear(&go);
+  int rc = c->props->negotiate_input(*in, out, [c](GstTensorsInfo *gi, GstTensorsInfo *go) {
+    return c->cls->setInputDim(c->data, c->props->get(), gi, go);
+  });
   if (rc != 0)
     return set_err(err, len,
                    "custom filter '" + c->path + "': setInputDim returned " + std::to_string(rc));

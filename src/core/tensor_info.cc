@@ -201,15 +201,20 @@ bool TensorsConfig::same_as(const TensorsConfig &o) const {
   return true;
 }
 
-std::vector<Dims> parse_dims_list(std::string_view s, std::string_view what) {
-  std::vector<Dims> out;
+namespace {
+
+// One item per tensor, separated with ',' (or '.'), each read by `parse`; messages start with
+// `what`.
+template <typename Parse>
+auto parse_list(std::string_view s, std::string_view what, Parse parse) {
+  std::vector<decltype(parse(s))> out;
   auto parts = split(s, ",.");
   if (parts.size() > kTensorLimit)
     fail(ErrorKind::kSettings, std::string(what) + " lists " + std::to_string(parts.size()) +
                                    " tensors, the limit is " + std::to_string(kTensorLimit));
   for (const auto &p : parts) {
     try {
-      out.push_back(parse_dims(p));
+      out.push_back(parse(p));
     } catch (const Error &e) {
       fail(ErrorKind::kSettings, std::string(what) + ": " + e.what());
     }
@@ -217,20 +222,14 @@ std::vector<Dims> parse_dims_list(std::string_view s, std::string_view what) {
   return out;
 }
 
+}  // namespace
+
+std::vector<Dims> parse_dims_list(std::string_view s, std::string_view what) {
+  return parse_list(s, what, [](std::string_view p) { return parse_dims(p); });
+}
+
 std::vector<TensorType> parse_types_list(std::string_view s, std::string_view what) {
-  std::vector<TensorType> out;
-  auto parts = split(s, ",.");
-  if (parts.size() > kTensorLimit)
-    fail(ErrorKind::kSettings, std::string(what) + " lists " + std::to_string(parts.size()) +
-                                   " tensors, the limit is " + std::to_string(kTensorLimit));
-  for (const auto &p : parts) {
-    try {
-      out.push_back(parse_type(p));
-    } catch (const Error &e) {
-      fail(ErrorKind::kSettings, std::string(what) + ": " + e.what());
-    }
-  }
-  return out;
+  return parse_list(s, what, [](std::string_view p) { return parse_type(p); });
 }
 
 std::vector<std::string> parse_names_list(std::string_view s) {

@@ -6,6 +6,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include <functional>
+#include <string>
 
 #include "grpc/tensor_link.h"
 
@@ -42,6 +43,41 @@ struct Link::Impl {
   void finish_worker(const grpc::Status &s, bool broken);
   // A received frame: checked, then handed on. Returns the problem or "".
   std::string deliver(Frame &&f, uint32_t num_tensor_field);
+
+  // Server side of SendTensors (clients stream frames in): `take(msg)` decodes and delivers each
+  // message, returning the problem or "". A bad message ends the call and is reported.
+  template <typename Msg, typename Take>
+  grpc::Status serve_incoming(grpc::ServerContext *c, grpc::ServerReader<Msg> *reader, Take take) {
+    if (opts.direction != Direction::kReceive)
+      return {grpc::StatusCode::UNIMPLEMENTED, "this server sends tensors (RecvTensors)"};
+    Msg msg;
+    while (!is_stopping() && reader->Read(&msg)) {
+      const std::string bad = take(msg);
+      if (!bad.empty()) {
+        on_end(false, "client " + c->peer() + " sent a bad message: " + bad);
+        return {grpc::StatusCode::INVALID_ARGUMENT, bad};
+      }
+    }
+    return grpc::Status::OK;
+  }
+
+  // Client side of RecvTensors: reads the server's stream to its end through `take` (as above);
+  // a bad message cancels the call and ends the link with the problem.
+  template <typename Msg, typename Take>
+  void receive_all(grpc::ClientReader<Msg> &r, Take take) {
+    Msg msg;
+    while (r.Read(&msg)) {
+      const std::string bad = take(msg);
+      if (!bad.empty()) {
+        ctx->TryCancel();
+        r.Finish();
+        on_end(false, "server " + address() + " sent a bad message: " + bad);
+        set_done();
+        return;
+      }
+    }
+    finish_worker(r.Finish(), false);
+  }
 };
 
 std::unique_ptr<Link::Impl> make_protobuf_impl();

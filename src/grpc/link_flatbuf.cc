@@ -83,20 +83,7 @@ struct FbImpl final : public Link::Impl, public fb::TensorService::Service {
   grpc::Status SendTensors(grpc::ServerContext *c, grpc::ServerReader<TensorsMsg> *reader,
                            EmptyMsg *reply) override {
     *reply = empty();
-    if (opts.direction != Direction::kReceive)
-      return {grpc::StatusCode::UNIMPLEMENTED, "this server sends tensors (RecvTensors)"};
-    TensorsMsg msg;
-    while (!is_stopping() && reader->Read(&msg)) {
-      Frame f;
-      uint32_t n = 0;
-      std::string bad = from_fb(msg, f, n);
-      if (bad.empty()) bad = deliver(std::move(f), n);
-      if (!bad.empty()) {
-        on_end(false, "client " + c->peer() + " sent a bad message: " + bad);
-        return {grpc::StatusCode::INVALID_ARGUMENT, bad};
-      }
-    }
-    return grpc::Status::OK;
+    return serve_incoming(c, reader, [this](TensorsMsg &msg) { return take(msg); });
   }
 
   grpc::Status RecvTensors(grpc::ServerContext *c, const EmptyMsg *,
@@ -128,21 +115,15 @@ struct FbImpl final : public Link::Impl, public fb::TensorService::Service {
 
   void client_receive() override {
     std::unique_ptr<grpc::ClientReader<TensorsMsg>> r(stub->RecvTensors(ctx.get(), empty()));
-    TensorsMsg msg;
-    while (r->Read(&msg)) {
-      Frame f;
-      uint32_t n = 0;
-      std::string bad = from_fb(msg, f, n);
-      if (bad.empty()) bad = deliver(std::move(f), n);
-      if (!bad.empty()) {
-        ctx->TryCancel();
-        r->Finish();
-        on_end(false, "server " + address() + " sent a bad message: " + bad);
-        set_done();
-        return;
-      }
-    }
-    finish_worker(r->Finish(), false);
+    receive_all(*r, [this](TensorsMsg &msg) { return take(msg); });
+  }
+
+  // A received message decoded and delivered; the problem or "".
+  std::string take(TensorsMsg &msg) {
+    Frame f;
+    uint32_t n = 0;
+    std::string bad = from_fb(msg, f, n);
+    return bad.empty() ? deliver(std::move(f), n) : bad;
   }
 };
 

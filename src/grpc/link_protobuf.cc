@@ -51,18 +51,7 @@ struct PbImpl final : public Link::Impl, public pb::TensorService::Service {
   // Server side of tensor_src_grpc: clients stream frames in.
   grpc::Status SendTensors(grpc::ServerContext *c, grpc::ServerReader<pb::Tensors> *reader,
                            google::protobuf::Empty *) override {
-    if (opts.direction != Direction::kReceive)
-      return {grpc::StatusCode::UNIMPLEMENTED, "this server sends tensors (RecvTensors)"};
-    pb::Tensors msg;
-    while (!is_stopping() && reader->Read(&msg)) {
-      const uint32_t n = msg.num_tensor();
-      const std::string bad = deliver(from_proto(msg), n);
-      if (!bad.empty()) {
-        on_end(false, "client " + c->peer() + " sent a bad message: " + bad);
-        return {grpc::StatusCode::INVALID_ARGUMENT, bad};
-      }
-    }
-    return grpc::Status::OK;
+    return serve_incoming(c, reader, [this](pb::Tensors &msg) { return take(msg); });
   }
 
   // Server side of tensor_sink_grpc: each client gets the frames as they come.
@@ -97,19 +86,13 @@ struct PbImpl final : public Link::Impl, public pb::TensorService::Service {
   void client_receive() override {
     std::unique_ptr<grpc::ClientReader<pb::Tensors>> r(
         stub->RecvTensors(ctx.get(), google::protobuf::Empty()));
-    pb::Tensors msg;
-    while (r->Read(&msg)) {
-      const uint32_t n = msg.num_tensor();
-      const std::string bad = deliver(from_proto(msg), n);
-      if (!bad.empty()) {
-        ctx->TryCancel();
-        r->Finish();
-        on_end(false, "server " + address() + " sent a bad message: " + bad);
-        set_done();
-        return;
-      }
-    }
-    finish_worker(r->Finish(), false);
+    receive_all(*r, [this](pb::Tensors &msg) { return take(msg); });
+  }
+
+  // A received message decoded and delivered; the problem or "".
+  std::string take(pb::Tensors &msg) {
+    const uint32_t n = msg.num_tensor();  // read before from_proto takes the message apart
+    return deliver(from_proto(msg), n);
   }
 };
 

@@ -108,21 +108,30 @@ bool Client::publish(const std::string &topic, const void *data, std::size_t siz
       why_ = "not connected to the broker";
       return false;
     }
+    if (qos > 0) ++publishing_;
   }
+  int mid = 0;
   const int rc =
-      mosquitto_publish(mosq_, nullptr, topic.c_str(), static_cast<int>(size), data, qos, retain);
+      mosquitto_publish(mosq_, &mid, topic.c_str(), static_cast<int>(size), data, qos, retain);
   std::lock_guard<std::mutex> l(lock_);
+  if (qos > 0) {
+    // The network thread may have seen the acknowledgement already (it often has under load:
+    // it runs while this thread waits for the lock); then its mid is in acked_early_.
+    --publishing_;
+    if (rc == MOSQ_ERR_SUCCESS && acked_early_.erase(mid) == 0) in_flight_.insert(mid);
+    if (publishing_ == 0) acked_early_.clear();  // only QoS 0 mids can be left there
+    cv_.notify_all();
+  }
   if (rc != MOSQ_ERR_SUCCESS) {
     why_ = mosq_text(rc);
     return false;
   }
-  if (qos > 0) ++in_flight_;
   return true;
 }
 
 bool Client::flush(std::chrono::milliseconds t) {
   std::unique_lock<std::mutex> l(lock_);
-  return cv_.wait_for(l, t, [&] { return in_flight_ <= 0 || !connected_; });
+  return cv_.wait_for(l, t, [&] { return in_flight_.empty() || !connected_; });
 }
 
 void Client::on_connect_cb(mosquitto *m, void *p, int rc) {
@@ -136,7 +145,7 @@ void Client::on_connect_cb(mosquitto *m, void *p, int rc) {
       return;
     }
     self->connected_ = true;
-    self->in_flight_ = 0;
+    self->in_flight_.clear();
     topic = self->sub_topic_;
     qos = self->sub_qos_;
     if (topic.empty()) self->cv_.notify_all();
@@ -172,10 +181,12 @@ void Client::on_message_cb(mosquitto *, void *p, const mosquitto_message *msg) {
                     msg->payloadlen > 0 ? static_cast<std::size_t>(msg->payloadlen) : 0);
 }
 
-void Client::on_publish_cb(mosquitto *, void *p, int) {
+void Client::on_publish_cb(mosquitto *, void *p, int mid) {
   auto *self = static_cast<Client *>(p);
   std::lock_guard<std::mutex> l(self->lock_);
-  if (self->in_flight_ > 0) --self->in_flight_;
+  // A mid not (yet) in in_flight_: a QoS 0 message, or a QoS > 0 one whose publish() has not
+  // recorded it yet; kept for that publish() only while one is under way.
+  if (self->in_flight_.erase(mid) == 0 && self->publishing_ > 0) self->acked_early_.insert(mid);
   self->cv_.notify_all();
 }
 

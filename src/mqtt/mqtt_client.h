@@ -11,6 +11,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <unordered_set>
 
 struct mosquitto;
 struct mosquitto_message;
@@ -77,7 +78,14 @@ class Client {
   bool subscribed_ = false;
   std::string sub_topic_;
   int sub_qos_ = 0;
-  long in_flight_ = 0;  // qos > 0 messages not yet acknowledged
+  // Message ids of QoS > 0 messages not yet acknowledged. publish() learns a message's id only
+  // after mosquitto_publish() returned, and the acknowledgement can come first (the network
+  // thread runs meanwhile): such ids wait in acked_early_ while publishing_ > 0. A counter
+  // incremented after mosquitto_publish() lost that decrement and left flush() waiting its full
+  // timeout for the rest of the client's life.
+  std::unordered_set<int> in_flight_;
+  std::unordered_set<int> acked_early_;
+  int publishing_ = 0;  // publish() calls of QoS > 0 between the two locks
   std::string why_;
 };
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "backends/backend_loader.h"
 #include "backends/tflite_builder.h"
 #include "support/harness.h"
+#include "tflite_exact_reference.h"
 #include "tflite_model.h"
 
 namespace nns::test {
@@ -180,45 +182,95 @@ TEST(TfliteBackend, CustomOptions) {
   EXPECT_NE(inst.error().find("NumThreads:many"), std::string::npos) << inst.error();
 }
 
-// MobileNet v2 quant on orange.raw: class 951, and every score within one quantization step of
-// Arm NN CpuRef (exact reference; one ~3 s frame) when the armnn back end is built.
-TEST(TfliteBackend, MobilenetV2QuantMatchesArmnn) {
-  REQUIRE_TFLITE();
-  NNS_REQUIRE_SHARED_MODELS();
+// Histogram of |a - b| in quantization steps: [0], [1], [2], [3 or more].
+std::array<int, 4> step_histogram(const std::vector<int> &a, const std::vector<int> &b) {
+  std::array<int, 4> h{};
+  for (std::size_t i = 0; i < a.size(); ++i) ++h[std::min(std::abs(a[i] - b[i]), 3)];
+  return h;
+}
+std::vector<int> widen(const std::vector<uint8_t> &v) {
+  return std::vector<int>(v.begin(), v.end());
+}
+std::string histogram_text(const std::array<int, 4> &h) {
+  return std::to_string(h[0]) + " at 0 steps, " + std::to_string(h[1]) + " at 1, " +
+         std::to_string(h[2]) + " at 2, " + std::to_string(h[3]) + " at 3 or more";
+}
+std::vector<int> top5(const std::vector<int> &s) {
+  std::vector<int> idx(s.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
+  std::partial_sort(idx.begin(), idx.begin() + 5, idx.end(),
+                    [&](int a, int b) { return s[a] > s[b]; });
+  return std::vector<int>(idx.begin(), idx.begin() + 5);
+}
+
+// MobileNet v2 quant on orange.raw through the back end, and the same network in exact
+// arithmetic (tflite_exact_reference.h: integer accumulation, each layer's real value formed
+// in double precision and rounded once).
+struct MobilenetV2Scores {
+  std::vector<int> ours, exact;
+};
+MobilenetV2Scores mobilenet_v2_scores(std::vector<uint8_t> *image_out = nullptr) {
+  MobilenetV2Scores r;
   std::vector<uint8_t> image = read_file(shared_models_dir() + "/data/orange.raw");
-  ASSERT_EQ(image.size(), 224u * 224u * 3u);
+  EXPECT_EQ(image.size(), 224u * 224u * 3u);
+  if (image.size() != 224u * 224u * 3u) return r;
   Props p;
   p.models = {upstream("mobilenet_v2_1.0_224_quant.tflite")};
   Instance inst(lib().api(), p);
-  ASSERT_EQ(inst.rc(), 0) << inst.error();
-  auto ours = run_once(inst, image, 1001);
-  EXPECT_EQ(argmax(ours), 951);
+  EXPECT_EQ(inst.rc(), 0) << inst.error();
+  if (inst.rc() != 0) return r;
+  r.ours = widen(run_once(inst, image, 1001));
+  r.exact = exact_quantized_run(nns::tfl::load_model(p.models[0]), image);
+  if (image_out) *image_out = std::move(image);
+  return r;
+}
+
+// Every one of the 1001 scores within one quantization step of exact arithmetic (measured: 710
+// equal, 291 one step away: layer by layer the back end equals exact arithmetic except for 3
+// elements within 1.2e-5 of a half step, which later layers amplify; docs/backends/tflite.md),
+// class 951.
+TEST(TfliteBackend, MobilenetV2QuantWithinOneStepOfExactArithmetic) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  auto s = mobilenet_v2_scores();
+  ASSERT_EQ(s.ours.size(), 1001u);
+  ASSERT_EQ(s.exact.size(), 1001u);
+  EXPECT_EQ(top5(s.exact)[0], 951);
+  EXPECT_EQ(top5(s.ours)[0], 951);
+  auto h = step_histogram(s.ours, s.exact);
+  std::printf("ours vs exact arithmetic: %s\n", histogram_text(h).c_str());
+  EXPECT_EQ(h[2] + h[3], 0) << "scores more than one step from exact arithmetic: "
+                            << histogram_text(h);
+  EXPECT_EQ(top5(s.ours), top5(s.exact));
+}
+
+// Against Arm NN CpuRef (one ~3 s frame) when the armnn back end is built. CpuRef accumulates in
+// float32 and so rounds some values that lie within ~2e-5 of a half step the other way than
+// exact arithmetic does (38 elements over 4 layers on this image); MobileNet v2's 0.35-step
+// projections feeding 0.0235-step expansions amplify each such step, and exact arithmetic
+// itself ends 12 of the 1001 scores two steps from CpuRef. So the bound here is two steps
+// (measured: ours 31 scores at two steps, exact arithmetic 12; none further).
+TEST(TfliteBackend, MobilenetV2QuantMatchesArmnn) {
+  REQUIRE_TFLITE();
+  NNS_REQUIRE_SHARED_MODELS();
+  std::vector<uint8_t> image;
+  auto s = mobilenet_v2_scores(&image);
+  ASSERT_EQ(s.ours.size(), 1001u);
+  EXPECT_EQ(top5(s.ours)[0], 951);
   const BackendLib &armnn = backend_lib("armnn");
   if (!armnn.ok()) GTEST_SKIP() << "armnn back end absent: no CpuRef comparison";
   Props pa;
-  pa.models = p.models;
+  pa.models = {upstream("mobilenet_v2_1.0_224_quant.tflite")};
   Instance ref(armnn.api(), pa);
   ASSERT_EQ(ref.rc(), 0) << ref.error();
-  auto theirs = run_once(ref, image, 1001);
-  // ONNX Runtime requantizes in float where TFLite uses fixed point: over ~60 layers about 3 %
-  // of the scores end two steps away (measured: 31 of 1001), none further; the ranking holds.
-  int worst = 0, off = 0;
-  for (int i = 0; i < 1001; ++i) {
-    int d = std::abs(ours[i] - theirs[i]);
-    worst = std::max(worst, d);
-    off += d > 1;
-  }
-  std::printf("worst %d, %d scores more than one step away\n", worst, off);
-  EXPECT_LE(worst, 2) << "largest score difference to Arm NN CpuRef";
-  EXPECT_LE(off, 50) << "scores more than one step from Arm NN CpuRef";
-  auto top5 = [](const std::vector<uint8_t> &s) {
-    std::vector<int> idx(s.size());
-    for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
-    std::partial_sort(idx.begin(), idx.begin() + 5, idx.end(),
-                      [&](int a, int b) { return s[a] > s[b]; });
-    return std::vector<int>(idx.begin(), idx.begin() + 5);
-  };
-  EXPECT_EQ(top5(ours), top5(theirs));
+  auto theirs = widen(run_once(ref, image, 1001));
+  auto h = step_histogram(s.ours, theirs), hx = step_histogram(s.exact, theirs);
+  std::printf("ours vs CpuRef: %s\nexact arithmetic vs CpuRef: %s\n", histogram_text(h).c_str(),
+              histogram_text(hx).c_str());
+  EXPECT_EQ(h[3], 0) << "largest score difference to Arm NN CpuRef: " << histogram_text(h);
+  EXPECT_EQ(hx[3], 0) << "exact arithmetic vs CpuRef: " << histogram_text(hx);
+  EXPECT_LE(h[2], 50) << "scores two steps from Arm NN CpuRef: " << histogram_text(h);
+  EXPECT_EQ(top5(s.ours), top5(theirs));
 }
 
 // The TF2 int8 PTQ network and the v1 224 network split in two files that chain.

@@ -9,75 +9,14 @@
 #include <functional>
 #include <numeric>
 
-#include "backends/backend_loader.h"
-#include "backends/tflite_builder.h"
+#include <flatbuffers/flexbuffers.h>
+
+#include "backends/tflite_op_util.h"
 
 namespace nns::test {
 namespace {
 
-using TT = tflite::TensorType;
-
-const BackendLib &lib() {
-  return backend_lib("tensorflow2-lite");
-}
-
-#define REQUIRE_TFLITE()                                                             \
-  do {                                                                               \
-    if (!lib().ok()) GTEST_SKIP() << "tensorflow2-lite back end: " << lib().error(); \
-  } while (0)
-
-template <typename T>
-std::vector<uint8_t> bytes_of(const std::vector<T> &v) {
-  std::vector<uint8_t> b(v.size() * sizeof(T));
-  std::memcpy(b.data(), v.data(), b.size());
-  return b;
-}
-template <typename T>
-std::vector<T> values_of(const std::vector<uint8_t> &b) {
-  std::vector<T> v(b.size() / sizeof(T));
-  std::memcpy(v.data(), b.data(), b.size());
-  return v;
-}
-
-// Opens `model`, checks the output sizes the back end reports, invokes once.
-std::vector<std::vector<uint8_t>> run(const std::vector<uint8_t> &model,
-                                      const std::vector<std::vector<uint8_t>> &inputs,
-                                      std::string *error = nullptr) {
-  TempModel f(model);
-  Props p;
-  p.models = {f.path()};
-  Instance inst(lib().api(), p);
-  if (inst.rc() != 0) {
-    if (error)
-      *error = inst.error();
-    else
-      ADD_FAILURE() << inst.error();
-    return {};
-  }
-  nns_tensors_desc in, out;
-  EXPECT_EQ(inst.model_info(in, out), 0) << inst.error();
-  std::vector<std::vector<uint8_t>> outs(out.num_tensors);
-  std::vector<GstTensorMemory> im, om;
-  for (auto &i : inputs) im.push_back({const_cast<uint8_t *>(i.data()), i.size()});
-  for (uint32_t k = 0; k < out.num_tensors; ++k) {
-    outs[k].resize(desc_bytes(out.tensors[k]));
-    om.push_back({outs[k].data(), outs[k].size()});
-  }
-  EXPECT_EQ(inst.invoke(im, om), 0) << inst.error();
-  return outs;
-}
-
-void expect_near(const std::vector<float> &got, const std::vector<float> &want, float rel = 1e-5f) {
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t i = 0; i < got.size(); ++i)
-    EXPECT_NEAR(got[i], want[i], rel * std::max(1.f, std::fabs(want[i]))) << "at " << i;
-}
-
-std::vector<float> ramp(std::size_t n, float scale = 0.1f, float offset = -1.f) {
-  std::vector<float> v(n);
-  for (std::size_t i = 0; i < n; ++i) v[i] = offset + scale * static_cast<float>((i * 7) % 23);
-  return v;
-}
+using namespace tflite_ops;
 
 // NHWC conv reference (TFLite padding semantics), weights OHWI (depthwise: 1HW(C*M)).
 std::vector<float> conv_ref(const std::vector<float> &x, int H, int W, int C,
@@ -562,6 +501,49 @@ TEST(TfliteOps, UnsupportedOpNamesOpIndexModelAndArmnn) {
   EXPECT_NE(err.find("operator 1 (LSH_PROJECTION)"), std::string::npos) << err;
   EXPECT_NE(err.find(".tflite"), std::string::npos) << err;
   EXPECT_NE(err.find("framework=armnn"), std::string::npos) << err;
+}
+
+// TFLite_Detection_PostProcess alone: one anchor, one class. The box encoding 0 decodes to the
+// anchor. Options the kernel cannot run (y_scale 0) are refused when the model is loaded.
+std::vector<uint8_t> detection_model(float y_scale) {
+  flexbuffers::Builder opts;
+  opts.Map([&] {
+    opts.Int("max_detections", 1);
+    opts.Int("max_classes_per_detection", 1);
+    opts.Int("num_classes", 1);
+    opts.Float("nms_score_threshold", 0.f);
+    opts.Float("nms_iou_threshold", 0.5f);
+    opts.Float("y_scale", y_scale);
+    opts.Float("x_scale", 10.f);
+    opts.Float("h_scale", 5.f);
+    opts.Float("w_scale", 5.f);
+  });
+  opts.Finish();
+  TfliteBuilder t;
+  int boxes = t.tensor("boxes", TT::TensorType_FLOAT32, {1, 1, 4});
+  int scores = t.tensor("scores", TT::TensorType_FLOAT32, {1, 1, 2});
+  int anchors = t.constant("anchors", TT::TensorType_FLOAT32, {1, 4},
+                           std::vector<float>{0.5f, 0.4f, 0.2f, 0.6f});
+  int ob = t.tensor("det_boxes", TT::TensorType_FLOAT32, {1, 1, 4});
+  int oc = t.tensor("det_classes", TT::TensorType_FLOAT32, {1, 1});
+  int os = t.tensor("det_scores", TT::TensorType_FLOAT32, {1, 1});
+  int on = t.tensor("num_detections", TT::TensorType_FLOAT32, {1});
+  t.op(tflite::BuiltinOperator_CUSTOM, {boxes, scores, anchors}, {ob, oc, os, on},
+       tflite::BuiltinOptions_NONE, 0, "TFLite_Detection_PostProcess", opts.GetBuffer());
+  return t.finish({boxes, scores}, {ob, oc, os, on});
+}
+
+TEST(TfliteOps, DetectionPostProcessRefusesOptionsTheKernelCannotRun) {
+  REQUIRE_TFLITE();
+  auto out = run(detection_model(10.f),
+                 {bytes_of(std::vector<float>(4, 0.f)), bytes_of(std::vector<float>{0.f, 0.9f})});
+  ASSERT_EQ(out.size(), 4u);
+  expect_near(values_of<float>(out[0]), {0.4f, 0.1f, 0.6f, 0.7f});  // ymin xmin ymax xmax
+  expect_near(values_of<float>(out[2]), {0.9f});
+  expect_near(values_of<float>(out[3]), {1.f});
+  std::string err;
+  EXPECT_TRUE(run(detection_model(0.f), {}, &err).empty());
+  EXPECT_NE(err.find("implausible options"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -446,6 +446,52 @@ TEST(CompatFilterSingle, SetInputInfoAndBadModel) {
   g_object_unref(bad);
 }
 
+// One property table for both (src/gst/filter_properties.h): the single has every property of
+// tensor_filter's with its type, flags (but GStreamer's mutable-in-PLAYING), blurb and default,
+// and reads back what was set.
+TEST(CompatFilterSingle, PropertiesAreTensorFilters) {
+  GstElement *f = gst_element_factory_make("tensor_filter", nullptr);
+  ASSERT_NE(f, nullptr);
+  auto *sk = static_cast<GObjectClass *>(g_type_class_ref(G_TYPE_TENSOR_FILTER_SINGLE));
+  guint n = 0;
+  GParamSpec **ps = g_object_class_list_properties(sk, &n);
+  EXPECT_EQ(n, 27u);
+  for (guint i = 0; i < n; ++i) {
+    SCOPED_TRACE(ps[i]->name);
+    GParamSpec *e = g_object_class_find_property(G_OBJECT_GET_CLASS(f), ps[i]->name);
+    ASSERT_NE(e, nullptr);
+    EXPECT_EQ(e->value_type, ps[i]->value_type);
+    EXPECT_EQ(e->flags & ~GST_PARAM_MUTABLE_PLAYING, ps[i]->flags);
+    EXPECT_STREQ(g_param_spec_get_blurb(e), g_param_spec_get_blurb(ps[i]));
+    EXPECT_EQ(g_param_values_cmp(e, g_param_spec_get_default_value(e),
+                                 g_param_spec_get_default_value(ps[i])),
+              0);
+  }
+  g_free(ps);
+  g_type_class_unref(sk);
+  gst_object_unref(f);
+
+  GObject *o =
+      G_OBJECT(g_object_new(G_TYPE_TENSOR_FILTER_SINGLE, "silent", FALSE, "latency", 1, "suspend",
+                            250u, "invoke-dynamic", TRUE, "invoke-async", TRUE,
+                            "shared-tensor-filter-key", "k1", "inputlayout", "NCHW", nullptr));
+  gboolean silent = TRUE, dynamic = FALSE, async = FALSE;
+  gint latency = 0;
+  guint suspend = 0;
+  g_object_get(o, "silent", &silent, "latency", &latency, "suspend", &suspend, "invoke-dynamic",
+               &dynamic, "invoke-async", &async, nullptr);
+  EXPECT_FALSE(silent);
+  EXPECT_EQ(latency, 1);
+  EXPECT_EQ(suspend, 250u);
+  EXPECT_TRUE(dynamic);
+  EXPECT_TRUE(async);
+  EXPECT_EQ(prop(o, "shared-tensor-filter-key"), "k1");
+  EXPECT_EQ(prop(o, "inputlayout"), "NCHW");
+  EXPECT_EQ(prop(o, "framework"), "auto");
+  EXPECT_NE(prop(o, "sub-plugins").find("custom"), std::string::npos);
+  g_object_unref(o);
+}
+
 }  // namespace single
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "../common/backend_common.h"
 #include "core/float16.h"
 #include "nns_filter_backend.hh"
 
@@ -32,31 +33,6 @@ struct View {
   size_t size = 0;
   tensor_type type = _NNS_END;
 };
-
-size_t elem_size(tensor_type t) {
-  switch (t) {
-    case _NNS_INT8:
-    case _NNS_UINT8:
-      return 1;
-    case _NNS_INT16:
-    case _NNS_UINT16:
-    case _NNS_FLOAT16:
-      return 2;
-    case _NNS_INT32:
-    case _NNS_UINT32:
-    case _NNS_FLOAT32:
-      return 4;
-    case _NNS_INT64:
-    case _NNS_UINT64:
-    case _NNS_FLOAT64:
-      return 8;
-    default:
-      return 0;
-  }
-}
-
-const char *const kTypeNames[] = {"int32",   "uint32",  "int16", "uint16", "int8",   "uint8",
-                                  "float64", "float32", "int64", "uint64", "float16"};
 
 template <typename T>
 T saturate(lua_State *L, int idx) {
@@ -134,7 +110,7 @@ class LuaBackend final : public nns::FilterBackend {
   static int l_index(lua_State *L) {
     View &v = element(L);
     lua_Integer k = luaL_checkinteger(L, 2) - 1;
-    const char *p = static_cast<const char *>(v.data) + k * elem_size(v.type);
+    const char *p = static_cast<const char *>(v.data) + k * nns::backend::type_size(v.type);
     switch (v.type) {
       case _NNS_INT8:
         lua_pushinteger(L, *reinterpret_cast<const int8_t *>(p));
@@ -184,7 +160,7 @@ class LuaBackend final : public nns::FilterBackend {
                         r->index + 1);
     View &v = element(L);
     lua_Integer k = luaL_checkinteger(L, 2) - 1;
-    char *p = static_cast<char *>(v.data) + k * elem_size(v.type);
+    char *p = static_cast<char *>(v.data) + k * nns::backend::type_size(v.type);
     switch (v.type) {
       case _NNS_INT8:
         *reinterpret_cast<int8_t *>(p) = saturate<int8_t>(L, 3);
@@ -229,7 +205,7 @@ class LuaBackend final : public nns::FilterBackend {
   static int l_len(lua_State *L) {
     auto *r = static_cast<TensorRef *>(luaL_checkudata(L, 1, kTensorMeta));
     View *v = r->owner->view(L, *r);
-    lua_pushinteger(L, static_cast<lua_Integer>(v->size / elem_size(v->type)));
+    lua_pushinteger(L, static_cast<lua_Integer>(v->size / nns::backend::type_size(v->type)));
     return 1;
   }
 
@@ -295,7 +271,7 @@ class LuaBackend final : public nns::FilterBackend {
       lua_pop(L_, 1);
       uint32_t found = _NNS_END;
       for (uint32_t k = 0; k < _NNS_END; ++k)
-        if (strcasecmp(t.c_str(), kTypeNames[k]) == 0) found = k;
+        if (strcasecmp(t.c_str(), nns::backend::type_name(k)) == 0) found = k;
       if (found == _NNS_END)
         bad("type[" + std::to_string(i) + "] '" + t + "' is not a tensor type");
       d.tensors[i - 1].type = found;
@@ -366,7 +342,7 @@ class LuaBackend final : public nns::FilterBackend {
     auto *r = static_cast<TensorRef *>(luaL_checkudata(L, 1, kTensorMeta));
     View *v = r->owner->view(L, *r);
     lua_Integer k = luaL_checkinteger(L, 2);
-    lua_Integer n = static_cast<lua_Integer>(v->size / elem_size(v->type));
+    lua_Integer n = static_cast<lua_Integer>(v->size / nns::backend::type_size(v->type));
     if (k < 1 || k > n)
       luaL_error(L, "%s(%d)[%d]: index out of range (1..%d)",
                  r->output ? "output_tensor" : "input_tensor", r->index + 1, static_cast<int>(k),

@@ -229,7 +229,7 @@ void Translator::detection_post(const Op &op, Translation &tr) {
   }
   if (o.max_detections <= 0 || o.max_detections > 10000 || o.num_classes <= 0 ||
       o.num_classes > 100000 || o.max_classes_per_detection <= 0 ||
-      o.max_classes_per_detection > o.num_classes || p.slots() > 100000)
+      o.max_classes_per_detection > o.num_classes || p.slots() <= 0 || p.slots() > 100000)
     fail(op, "implausible options (max_detections " + std::to_string(o.max_detections) +
                  ", num_classes " + std::to_string(o.num_classes) + ")");
   int anchors = op.inputs[2];

@@ -271,10 +271,34 @@ void Translator::translate_op(const Op &op, Translation &tr) {
       std::string pn = const_i64(pads);
       if (code == B::BuiltinOperator_MIRROR_PAD) {
         auto *o = op.raw->builtin_options_as_MirrorPadOptions();
-        if (o && o->mode() != 0) unsupported(op, "SYMMETRIC mode");
-        std::string y = fresh();
-        g_.node("Pad", {flt(in0()), pn}, {y}, {attr_str("mode", "reflect")});
-        return store(out0(), y);
+        if (!o || o->mode() == 0) {  // REFLECT: the edge is not repeated
+          std::string y = fresh();
+          g_.node("Pad", {flt(in0()), pn}, {y}, {attr_str("mode", "reflect")});
+          return store(out0(), y);
+        }
+        // SYMMETRIC (edge repeated) has no ONNX Pad mode: one Gather per padded axis, indices
+        // from the input's shape (a model input's as given to this translation; an inner
+        // tensor's as the model declares it).
+        std::vector<int64_t> dims(T(in0()).shape.begin(), T(in0()).shape.end());
+        for (std::size_t k = 0; k < m_.inputs.size(); ++k)
+          if (m_.inputs[k] == in0() && in_shapes_[k].size() == dims.size()) dims = in_shapes_[k];
+        return movement([&](const std::string &x) {
+          std::string y = x;
+          for (int i = 0; i < r; ++i) {
+            const int64_t n = dims[i], before = p[2 * i], after = p[2 * i + 1];
+            if (before == 0 && after == 0) continue;
+            if (before < 0 || after < 0 || before > n || after > n)
+              fail(op, "SYMMETRIC paddings must be 0.." + std::to_string(n) + " on axis " +
+                           std::to_string(i));
+            std::vector<int64_t> idx;
+            for (int64_t j = -before; j < n + after; ++j)
+              idx.push_back(j < 0 ? -j - 1 : j >= n ? 2 * n - 1 - j : j);
+            std::string z = fresh();
+            g_.node("Gather", {y, const_i64(idx)}, {z}, {attr_int("axis", i)});
+            y = z;
+          }
+          return y;
+        });
       }
       int x = in0(), out = out0();
       if (same_q(x, out)) {

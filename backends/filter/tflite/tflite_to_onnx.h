@@ -27,12 +27,10 @@ struct DetectionPost {
   int num_anchors = 0;
   std::vector<int> outputs;  // its 4 TFLite output tensors
   int op_index = -1;
-  // Output rows: max_detections x max_classes_per_detection (fast NMS, TFLite's output shape),
-  // max_detections (regular NMS).
-  int slots() const {
-    return opts.use_regular_nms ? opts.max_detections
-                                : opts.max_detections * opts.max_classes_per_detection;
-  }
+  // Output rows (detection_postprocess_slots): max_detections x max_classes_per_detection (fast
+  // NMS, TFLite's output shape), max_detections (regular NMS); translate() refuses options that
+  // give 0 (invalid).
+  int slots() const { return detection_postprocess_slots(opts); }
 };
 
 struct Translation {

@@ -179,30 +179,14 @@ int bridge_model_info(void *priv, nns_tensors_desc *in, nns_tensors_desc *out, c
                       size_t len) {
   auto *c = static_cast<Inst *>(priv);
   const GstTensorFilterFramework *fw = c->f->fw;
-  GstTensorsInfo gi, go;
-  gst_info_init(&gi);
-  gst_info_init(&go);
-  int rc;
-  if (c->f->version == 0) {
-    if (!fw->getInputDimension || !fw->getOutputDimension) return -ENOTSUP;
-    rc = fw->getInputDimension(c->props->get(), &c->priv, &gi);
-    if (rc == 0) rc = fw->getOutputDimension(c->props->get(), &c->priv, &go);
-  } else {
-    rc = fw->getModelInfo(fw, c->props->get(), c->priv, GET_IN_OUT_INFO, &gi, &go);
-    if (rc == -ENOENT) {
-      gst_info_clear(&gi);
-      gst_info_clear(&go);
-      return -ENOTSUP;
-    }
-  }
-  if (rc == 0) {
-    desc_from_gst_info(&gi, *in);
-    desc_from_gst_info(&go, *out);
-    c->props->set_input(*in);
-    c->props->set_output(*out);
-  }
-  gst_info_clear(&gi);
-  gst_info_clear(&go);
+  if (c->f->version == 0 && (!fw->getInputDimension || !fw->getOutputDimension)) return -ENOTSUP;
+  int rc = c->props->query_model_info(in, out, [c, fw](GstTensorsInfo *gi, GstTensorsInfo *go) {
+    if (c->f->version != 0)
+      return fw->getModelInfo(fw, c->props->get(), c->priv, GET_IN_OUT_INFO, gi, go);
+    int r = fw->getInputDimension(c->props->get(), &c->priv, gi);
+    return r == 0 ? fw->getOutputDimension(c->props->get(), &c->priv, go) : r;
+  });
+  if (c->f->version != 0 && rc == -ENOENT) return -ENOTSUP;
   if (rc != 0)
     return set_err(err, len,
                    c->where +
@@ -217,19 +201,11 @@ int bridge_set_input(void *priv, const nns_tensors_desc *in, nns_tensors_desc *o
   auto *c = static_cast<Inst *>(priv);
   const GstTensorFilterFramework *fw = c->f->fw;
   if (c->f->version == 0 && !fw->setInputDimension) return -ENOTSUP;
-  GstTensorsInfo gi, go;
-  gst_info_from_desc(*in, &gi);
-  gst_info_init(&go);
-  int rc = c->f->version == 0
-               ? fw->setInputDimension(c->props->get(), &c->priv, &gi, &go)
-               : fw->getModelInfo(fw, c->props->get(), c->priv, SET_INPUT_INFO, &gi, &go);
-  if (rc == 0) {
-    desc_from_gst_info(&go, *out);
-    c->props->set_input(*in);
-    c->props->set_output(*out);
-  }
-  gst_info_clear(&gi);
-  gst_info_clear(&go);
+  int rc = c->props->negotiate_input(*in, out, [c, fw](GstTensorsInfo *gi, GstTensorsInfo *go) {
+    return c->f->version == 0
+               ? fw->setInputDimension(c->props->get(), &c->priv, gi, go)
+               : fw->getModelInfo(fw, c->props->get(), c->priv, SET_INPUT_INFO, gi, go);
+  });
   if (c->f->version == 1 && rc == -ENOENT) return -ENOTSUP;
   if (rc != 0)
     return set_err(

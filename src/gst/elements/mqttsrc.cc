@@ -286,6 +286,23 @@ static void mqtt_src_get_times(GstBaseSrc *, GstBuffer *buf, GstClockTime *start
   }
 }
 
+// Why rebase() gave a message no timestamps (its checks in order), in the receiver's terms.
+static std::string drop_reason(const nns::mqtt::MessageHeader &h, int64_t base_epoch) {
+  if (h.sent_time_epoch < base_epoch)
+    return "sent " + std::to_string(base_epoch - h.sent_time_epoch) +
+           " ns before this pipeline's base time";
+  const int64_t diff = h.base_time_epoch - base_epoch;
+  const std::string bases = "sender base time epoch " + std::to_string(h.base_time_epoch) +
+                            " ns, ours " + std::to_string(base_epoch) + " ns";
+  if (h.pts == nns::mqtt::kNoTime && diff <= 0)
+    return "without pts from a sender that started before this pipeline (" + bases + ")";
+  const int64_t at = static_cast<int64_t>(h.pts) + diff;
+  if (h.pts != nns::mqtt::kNoTime && at < 0)
+    return "whose pts lands " + std::to_string(-at) +
+           " ns before this pipeline's running time 0 (" + bases + ")";
+  return "without timestamps";
+}
+
 static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer **out) {
   return nns::gst::guard(src, GST_FLOW_ERROR, [&]() -> GstFlowReturn {
     auto *p = GST_MQTT_SRC(src)->priv;
@@ -305,7 +322,11 @@ static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer 
                                                  (p->client && !p->client->connected()
                                                       ? "; the broker " + mq::broker_name(p->run) +
                                                             " is unreachable: " + p->client->why()
-                                                      : ""));
+                                                      : "") +
+                                                 (p->dumped ? "; " + std::to_string(p->dumped) +
+                                                                  " earlier message(s) were "
+                                                                  "dropped for their timestamps"
+                                                            : ""));
         item = std::move(p->queue.front());
         p->queue.pop_front();
       }
@@ -350,12 +371,16 @@ static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer 
       if (have_base) {
         const nns::mqtt::Rebased r = nns::mqtt::rebase(h, p->base_epoch);
         if (!r.valid) {
-          ++p->dumped;
+          // Upstream drops it without a word; a receiver that only ever gets such messages
+          // would then wait out sub-timeout with nothing on the bus. Say why, once per run.
+          const std::string why = drop_reason(h, p->base_epoch);
+          if (++p->dumped == 1)
+            NNS_POST_WARNING(src, "topic '" + p->run.topic + "': dropped a message " + why +
+                                      " (as upstream, such messages are not pushed; further "
+                                      "ones are only logged)");
           if (p->run.debug)
-            GST_INFO_OBJECT(src,
-                            "%s: dropped a message from before this pipeline started "
-                            "(total %" G_GUINT64_FORMAT ")",
-                            p->run.topic.c_str(), p->dumped);
+            GST_INFO_OBJECT(src, "%s: dropped a message %s (total %" G_GUINT64_FORMAT ")",
+                            p->run.topic.c_str(), why.c_str(), p->dumped);
           gst_buffer_unref(buf);
           continue;
         }

@@ -27,6 +27,7 @@
 #include "gst/element_glue.h"
 #include "gst/filter_async.h"
 #include "gst/filter_engine.h"
+#include "gst/filter_properties.h"
 #include "gst/filter_settings.h"
 #include "gst/tensor_caps.h"
 
@@ -78,36 +79,7 @@ struct FilterPriv {
   bool suspend_stop = false;
 };
 
-enum {
-  PROP_0,
-  PROP_SILENT,
-  PROP_FRAMEWORK,
-  PROP_MODEL,
-  PROP_INPUT,
-  PROP_INPUTTYPE,
-  PROP_INPUTNAME,
-  PROP_INPUTLAYOUT,
-  PROP_INPUTRANKS,
-  PROP_OUTPUT,
-  PROP_OUTPUTTYPE,
-  PROP_OUTPUTNAME,
-  PROP_OUTPUTLAYOUT,
-  PROP_OUTPUTRANKS,
-  PROP_CUSTOM,
-  PROP_SUBPLUGINS,
-  PROP_ACCELERATOR,
-  PROP_IS_UPDATABLE,
-  PROP_LATENCY,
-  PROP_THROUGHPUT,
-  PROP_INPUTCOMBINATION,
-  PROP_OUTPUTCOMBINATION,
-  PROP_SHARED_KEY,
-  PROP_LATENCY_REPORT,
-  PROP_INVOKE_DYNAMIC,
-  PROP_INVOKE_ASYNC,
-  PROP_CONFIG_FILE,
-  PROP_SUSPEND,
-};
+using nns::gst::FilterProp;
 
 }  // namespace
 
@@ -123,45 +95,6 @@ static GstStaticPadTemplate sink_template = GST_STATIC_PAD_TEMPLATE(
     "sink", GST_PAD_SINK, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_TENSOR_CAPS_ANY_STR));
 static GstStaticPadTemplate src_template = GST_STATIC_PAD_TEMPLATE(
     "src", GST_PAD_SRC, GST_PAD_ALWAYS, GST_STATIC_CAPS(NNS_TENSOR_CAPS_ANY_STR));
-
-static std::string *string_prop(FilterSettings &s, guint id) {
-  switch (id) {
-    case PROP_FRAMEWORK:
-      return &s.framework;
-    case PROP_MODEL:
-      return &s.model;
-    case PROP_INPUT:
-      return &s.input;
-    case PROP_INPUTTYPE:
-      return &s.inputtype;
-    case PROP_INPUTNAME:
-      return &s.inputname;
-    case PROP_INPUTLAYOUT:
-      return &s.inputlayout;
-    case PROP_OUTPUT:
-      return &s.output;
-    case PROP_OUTPUTTYPE:
-      return &s.outputtype;
-    case PROP_OUTPUTNAME:
-      return &s.outputname;
-    case PROP_OUTPUTLAYOUT:
-      return &s.outputlayout;
-    case PROP_CUSTOM:
-      return &s.custom;
-    case PROP_ACCELERATOR:
-      return &s.accelerator;
-    case PROP_INPUTCOMBINATION:
-      return &s.input_combination;
-    case PROP_OUTPUTCOMBINATION:
-      return &s.output_combination;
-    case PROP_SHARED_KEY:
-      return &s.shared_key;
-    case PROP_CONFIG_FILE:
-      return &s.config_file;
-    default:
-      return nullptr;
-  }
-}
 
 static void update_profiling(GstTensorFilter *self) {
   FilterPriv *p = self->priv;
@@ -204,60 +137,35 @@ static void gst_tensor_filter_set_property(GObject *object, guint id, const GVal
                                            GParamSpec *pspec) {
   auto *self = GST_TENSOR_FILTER(object);
   FilterPriv *p = self->priv;
+  const auto prop = static_cast<FilterProp>(id);
   std::string config_path;
   bool reload = false;
   std::string new_model, old_model;
   {
     std::lock_guard lk(p->settings_mu);
     FilterSettings &s = p->settings;
-    if (std::string *str = string_prop(s, id)) {
+    if (std::string *str = nns::gst::string_setting(s, g_param_spec_get_name(pspec))) {
       const gchar *v = g_value_get_string(value);
       std::string nv = v ? v : "";
-      if (id == PROP_FRAMEWORK && nv.empty()) nv = "auto";
-      if ((id == PROP_FRAMEWORK || id == PROP_MODEL) && nv != *str) {
+      if (prop == FilterProp::kFramework && nv.empty()) nv = "auto";
+      if ((prop == FilterProp::kFramework || prop == FilterProp::kModel) && nv != *str) {
         std::lock_guard ilk(p->info_mu);
         p->chosen_framework.clear();
       }
-      if (id == PROP_MODEL && s.is_updatable && nv != s.model) {
+      if (prop == FilterProp::kModel && s.is_updatable && nv != s.model) {
         reload = true;
         new_model = nv;
         old_model = s.model;
       }
       *str = nv;
-      if (id == PROP_CONFIG_FILE) config_path = nv;
-    } else {
-      switch (id) {
-        case PROP_SILENT:
-          s.silent = g_value_get_boolean(value);
-          break;
-        case PROP_IS_UPDATABLE:
-          s.is_updatable = g_value_get_boolean(value);
-          break;
-        case PROP_LATENCY:
-          s.latency_mode = g_value_get_int(value);
-          break;
-        case PROP_THROUGHPUT:
-          s.throughput_mode = g_value_get_int(value);
-          break;
-        case PROP_LATENCY_REPORT:
-          s.latency_report = g_value_get_boolean(value);
-          break;
-        case PROP_INVOKE_DYNAMIC:
-          s.invoke_dynamic = g_value_get_boolean(value);
-          break;
-        case PROP_INVOKE_ASYNC:
-          s.invoke_async = g_value_get_boolean(value);
-          break;
-        case PROP_SUSPEND:
-          s.suspend_ms = g_value_get_uint(value);
-          break;
-        default:
-          G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
-          return;
-      }
+      if (prop == FilterProp::kConfigFile) config_path = nv;
+    } else if (!nns::gst::set_filter_value(s, id, value)) {
+      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+      return;
     }
   }
-  if (id == PROP_LATENCY || id == PROP_THROUGHPUT || id == PROP_LATENCY_REPORT)
+  if (prop == FilterProp::kLatency || prop == FilterProp::kThroughput ||
+      prop == FilterProp::kLatencyReport)
     update_profiling(self);
   if (reload) reload_model(self, new_model, old_model);
   if (!config_path.empty()) {
@@ -297,31 +205,29 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
     in = p->in_info;
     out = p->out_info;
   }
-  switch (id) {
-    case PROP_SILENT:
-      g_value_set_boolean(value, s.silent);
-      break;
-    case PROP_INPUT:
+  const auto prop = static_cast<FilterProp>(id);
+  switch (prop) {
+    case FilterProp::kInput:
       set_info_string(value, in, s.input, 0);
       break;
-    case PROP_INPUTTYPE:
+    case FilterProp::kInputType:
       set_info_string(value, in, s.inputtype, 1);
       break;
-    case PROP_INPUTNAME:
+    case FilterProp::kInputName:
       set_info_string(value, in, s.inputname, 2);
       break;
-    case PROP_OUTPUT:
+    case FilterProp::kOutput:
       set_info_string(value, out, s.output, 0);
       break;
-    case PROP_OUTPUTTYPE:
+    case FilterProp::kOutputType:
       set_info_string(value, out, s.outputtype, 1);
       break;
-    case PROP_OUTPUTNAME:
+    case FilterProp::kOutputName:
       set_info_string(value, out, s.outputname, 2);
       break;
-    case PROP_INPUTLAYOUT:
-    case PROP_OUTPUTLAYOUT: {
-      bool is_in = id == PROP_INPUTLAYOUT;
+    case FilterProp::kInputLayout:
+    case FilterProp::kOutputLayout: {
+      bool is_in = prop == FilterProp::kInputLayout;
       const std::string &user = is_in ? s.inputlayout : s.outputlayout;
       std::size_t n = (is_in ? in : out).size();
       g_value_set_string(
@@ -329,12 +235,12 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
           n ? nns::gst::layouts_string(nns::gst::parse_layouts(user), n).c_str() : user.c_str());
       break;
     }
-    case PROP_INPUTRANKS:
-    case PROP_OUTPUTRANKS: {
-      nns::TensorsInfo info = id == PROP_INPUTRANKS ? in : out;
+    case FilterProp::kInputRanks:
+    case FilterProp::kOutputRanks: {
+      nns::TensorsInfo info = prop == FilterProp::kInputRanks ? in : out;
       if (info.size() == 0) {
         try {
-          info = id == PROP_INPUTRANKS
+          info = prop == FilterProp::kInputRanks
                      ? nns::gst::parse_tensor_props(s.input, s.inputtype, "", "input")
                      : nns::gst::parse_tensor_props(s.output, s.outputtype, "", "output");
         } catch (const nns::Error &) {
@@ -344,47 +250,23 @@ static void gst_tensor_filter_get_property(GObject *object, guint id, GValue *va
       g_value_set_string(value, nns::gst::ranks_string(info).c_str());
       break;
     }
-    case PROP_SUBPLUGINS: {
-      std::string list;
-      try {
-        auto conf = nns::current_filter_conf();
-        for (auto &n : nns::FilterRegistry::get().available(*conf))
-          list += (list.empty() ? "" : ",") + n;
-      } catch (const std::exception &) {
-      }
-      g_value_set_string(value, list.c_str());
+    case FilterProp::kSubPlugins:
+      g_value_set_string(value, nns::gst::available_filters().c_str());
       break;
-    }
-    case PROP_IS_UPDATABLE:
-      g_value_set_boolean(value, s.is_updatable);
-      break;
-    case PROP_LATENCY:
+    case FilterProp::kLatency:
       g_value_set_int(value, s.latency_mode > 0 ? p->engine.stats().latency_us() : -1);
       break;
-    case PROP_THROUGHPUT:
+    case FilterProp::kThroughput:
       g_value_set_int(value, s.throughput_mode > 0 ? p->engine.stats().throughput() : -1);
       break;
-    case PROP_LATENCY_REPORT:
-      g_value_set_boolean(value, s.latency_report);
-      break;
-    case PROP_INVOKE_DYNAMIC:
-      g_value_set_boolean(value, s.invoke_dynamic);
-      break;
-    case PROP_INVOKE_ASYNC:
-      g_value_set_boolean(value, s.invoke_async);
-      break;
-    case PROP_SUSPEND:
-      g_value_set_uint(value, s.suspend_ms);
-      break;
-    case PROP_FRAMEWORK:
+    case FilterProp::kFramework:
       g_value_set_string(value, framework_readback(p, s).c_str());
       break;
     default:
-      if (std::string *str = string_prop(s, id)) {
+      if (std::string *str = nns::gst::string_setting(s, g_param_spec_get_name(pspec)))
         g_value_set_string(value, str->c_str());
-        break;
-      }
-      G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
+      else if (!nns::gst::get_filter_value(s, id, value))
+        G_OBJECT_WARN_INVALID_PROPERTY_ID(object, id, pspec);
   }
 }
 
@@ -774,20 +656,6 @@ static void gst_tensor_filter_finalize(GObject *object) {
   G_OBJECT_CLASS(gst_tensor_filter_parent_class)->finalize(object);
 }
 
-static void install_string(GObjectClass *k, guint id, const char *name, const char *def,
-                           const char *blurb, bool writable = true) {
-  auto flags = static_cast<GParamFlags>((writable ? G_PARAM_READWRITE : G_PARAM_READABLE) |
-                                        G_PARAM_STATIC_STRINGS);
-  g_object_class_install_property(k, id, g_param_spec_string(name, name, blurb, def, flags));
-}
-
-static void install_bool(GObjectClass *k, guint id, const char *name, gboolean def,
-                         const char *blurb, bool mutable_playing = false) {
-  auto flags = static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                        (mutable_playing ? GST_PARAM_MUTABLE_PLAYING : 0));
-  g_object_class_install_property(k, id, g_param_spec_boolean(name, name, blurb, def, flags));
-}
-
 static void gst_tensor_filter_class_init(GstTensorFilterClass *klass) {
   GST_DEBUG_CATEGORY_INIT(tensor_filter_debug, "tensor_filter", 0, "tensor_filter element");
   auto *k = G_OBJECT_CLASS(klass);
@@ -797,78 +665,7 @@ static void gst_tensor_filter_class_init(GstTensorFilterClass *klass) {
   k->get_property = gst_tensor_filter_get_property;
   k->finalize = gst_tensor_filter_finalize;
 
-  install_bool(k, PROP_SILENT, "silent", TRUE, "Produce verbose output", true);
-  install_string(k, PROP_FRAMEWORK, "framework", "auto",
-                 "Neural network framework (filter back end); 'auto' detects it from the "
-                 "model file extension");
-  g_object_class_install_property(
-      k, PROP_MODEL,
-      g_param_spec_string("model", "model",
-                          "Model file path(s), separated with ',' when the framework needs "
-                          "several files",
-                          "",
-                          static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                                   GST_PARAM_MUTABLE_PLAYING)));
-  install_string(k, PROP_INPUT, "input", "",
-                 "Input tensor dimensions from the innermost axis, tensors separated with ','");
-  install_string(k, PROP_INPUTTYPE, "inputtype", "", "Element type of each input tensor");
-  install_string(k, PROP_INPUTNAME, "inputname", "", "Name of each input tensor");
-  install_string(k, PROP_INPUTLAYOUT, "inputlayout", "",
-                 "Layout of each input tensor: NHWC, NCHW, ANY or NONE");
-  install_string(k, PROP_INPUTRANKS, "inputranks", "", "Rank of each input tensor", false);
-  install_string(k, PROP_OUTPUT, "output", "",
-                 "Output tensor dimensions from the innermost axis, tensors separated with ','");
-  install_string(k, PROP_OUTPUTTYPE, "outputtype", "", "Element type of each output tensor");
-  install_string(k, PROP_OUTPUTNAME, "outputname", "", "Name of each output tensor");
-  install_string(k, PROP_OUTPUTLAYOUT, "outputlayout", "",
-                 "Layout of each output tensor: NHWC, NCHW, ANY or NONE");
-  install_string(k, PROP_OUTPUTRANKS, "outputranks", "", "Rank of each output tensor", false);
-  install_string(k, PROP_CUSTOM, "custom", "",
-                 "Options for the framework, key:value pairs separated with ','");
-  install_string(k, PROP_SUBPLUGINS, "sub-plugins", "", "Available filter back ends", false);
-  install_string(k, PROP_ACCELERATOR, "accelerator", "",
-                 "Accelerators, (true|false):ACCL[,ACCL...], e.g. true:npu,gpu,!cpu");
-  install_bool(k, PROP_IS_UPDATABLE, "is-updatable", FALSE,
-               "Allow loading another model (model property) while running");
-  g_object_class_install_property(
-      k, PROP_LATENCY,
-      g_param_spec_int("latency", "latency",
-                       "1: measure the average invoke latency of the last 10 frames (us), read "
-                       "back from this property (-1 when off)",
-                       0, 1, 0,
-                       static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                                GST_PARAM_MUTABLE_PLAYING)));
-  g_object_class_install_property(
-      k, PROP_THROUGHPUT,
-      g_param_spec_int("throughput", "throughput",
-                       "1: measure the invoke throughput, outputs per second x 1000, read back "
-                       "from this property (-1 when off)",
-                       0, 1, 0,
-                       static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS |
-                                                GST_PARAM_MUTABLE_PLAYING)));
-  install_string(k, PROP_INPUTCOMBINATION, "input-combination", "",
-                 "Input tensors given to the model, e.g. 0,2");
-  install_string(k, PROP_OUTPUTCOMBINATION, "output-combination", "",
-                 "Tensors of the output frame: i<N> input tensors and o<N> model outputs, "
-                 "e.g. i0,o0,o2");
-  install_string(k, PROP_SHARED_KEY, "shared-tensor-filter-key", nullptr,
-                 "Filters with the same key, framework and model share one model instance");
-  install_bool(k, PROP_LATENCY_REPORT, "latency-report", FALSE,
-               "Add the measured invoke latency to LATENCY queries and post latency messages",
-               true);
-  install_bool(k, PROP_INVOKE_DYNAMIC, "invoke-dynamic", FALSE,
-               "Flexible tensors whose shapes change per frame; the output is always flexible");
-  install_bool(k, PROP_INVOKE_ASYNC, "invoke-async", FALSE,
-               "The back end may emit any number of outputs per input, from its own threads "
-               "(LLM back ends); back ends without invoke_async run synchronously");
-  install_string(k, PROP_CONFIG_FILE, "config-file", "",
-                 "File of property=value lines applied to this element");
-  g_object_class_install_property(
-      k, PROP_SUSPEND,
-      g_param_spec_uint("suspend", "suspend",
-                        "Suspend (unload) the model after this many ms without data; 0: never", 0,
-                        G_MAXUINT, 0,
-                        static_cast<GParamFlags>(G_PARAM_READWRITE | G_PARAM_STATIC_STRINGS)));
+  nns::gst::install_filter_properties(k, static_cast<GParamFlags>(GST_PARAM_MUTABLE_PLAYING));
 
   gst_element_class_set_static_metadata(
       element_class, "TensorFilter", "Filter/Tensor",
