@@ -18,7 +18,13 @@
 // a copy of the model with a free batch dimension is written to the build folder with
 // /usr/bin/python3 + onnx (the Reshape's [1,-1] becomes [0,-1]); max-batch=1 runs the original.
 //
-// usage: query_lb_bench [--frames N] [--clients C] [--part batch|lb|all] [--model PATH]
+// --part cost: no network, the server's pipeline fed N stacked frames in one process, CPU and
+// wall time per frame at batch 1, 2, 4, 8 (ORT 1 and 2 threads, with and without the
+// preprocessing): what batching can give on this model and back end.
+//
+// usage: query_lb_bench [--frames N] [--clients C] [--part batch|lb|cost|all] [--model PATH]
+//                       [--configs B:T[:TH],...]  (--part batch: max-batch:batch-timeout-us[:ORT
+//                       threads] runs, in this order)
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/resource.h>
@@ -26,6 +32,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -61,12 +68,14 @@ const char *kPre =
 int server_main(uint16_t port, int batch, const std::string &timeout_us, const std::string &model,
                 int threads) {
   const std::string b = std::to_string(batch);
-  std::string d = "tensor_query_serversrc host=127.0.0.1 port=" + std::to_string(port) +
+  std::string d = "tensor_query_serversrc name=qsrc host=127.0.0.1 port=" + std::to_string(port) +
                   " max-batch=" + b + " batch-timeout=" + timeout_us +
                   " ! other/tensors,format=static,num_tensors=1,dimensions=(string)3:224:224:" + b +
                   ",types=uint8,framerate=0/1 ! " + kPre +
                   " ! tensor_filter framework=onnxruntime model=\"" + model +
-                  "\" custom=NumThreads:" + std::to_string(threads);
+                  "\" custom=NumThreads:" + std::to_string(threads) +
+                  // 2 threads beside 8 client processes on 2 cores: no spin-waiting
+                  (threads > 1 ? ",AllowSpinning:false" : "");
   if (batch > 1) d += " input=224:224:3:" + b + " inputtype=float32";
   d += " ! tensor_query_serversink sync=false";
   GstElement *p = launch(d);
@@ -74,7 +83,16 @@ int server_main(uint16_t port, int batch, const std::string &timeout_us, const s
   char line[16];
   while (std::fgets(line, sizeof line, stdin)) {
   }
-  std::printf("cpu %.3f\n", cpu_s());
+  guint64 batches = 0, batched = 0;
+  GstElement *qsrc = gst_bin_get_by_name(GST_BIN(p), "qsrc");
+  GstStructure *st = nullptr;
+  g_object_get(qsrc, "stats", &st, nullptr);
+  gst_structure_get_uint64(st, "batches", &batches);
+  gst_structure_get_uint64(st, "batched", &batched);
+  gst_structure_free(st);
+  gst_object_unref(qsrc);
+  std::printf("cpu %.3f batches %llu batched %llu\n", cpu_s(),
+              static_cast<unsigned long long>(batches), static_cast<unsigned long long>(batched));
   std::fflush(stdout);
   gst_element_set_state(p, GST_STATE_NULL);
   gst_object_unref(p);
@@ -200,27 +218,36 @@ Result run_clients(const std::string &self, const std::string &dest, const std::
   return r;
 }
 
-// Stops the servers; their CPU seconds in total.
-double stop_servers(std::vector<Proc> &servers) {
+// Stops the servers; their CPU seconds in total. `fill`: requests per batch (max-batch > 1).
+double stop_servers(std::vector<Proc> &servers, double *fill = nullptr) {
   double cpu = 0;
+  unsigned long long batches = 0, batched = 0;
   char line[128];
   for (auto &s : servers) {
     std::fclose(s.to);
     s.to = nullptr;
     double c = 0;
-    if (std::fgets(line, sizeof line, s.from) && std::sscanf(line, "cpu %lf", &c) == 1) cpu += c;
+    unsigned long long b = 0, r = 0;
+    if (std::fgets(line, sizeof line, s.from) &&
+        std::sscanf(line, "cpu %lf batches %llu batched %llu", &c, &b, &r) >= 1) {
+      cpu += c;
+      batches += b;
+      batched += r;
+    }
     finish(s);
   }
+  if (fill) *fill = batches ? static_cast<double>(batched) / batches : 1.0;
   servers.clear();
   return cpu;
 }
 
 std::vector<Proc> start_servers(const std::string &self, const std::vector<uint16_t> &ports,
-                                int batch, int timeout_us, const std::string &model) {
+                                int batch, int timeout_us, const std::string &model,
+                                int threads = 1) {
   std::vector<Proc> out;
   for (uint16_t p : ports)
     out.push_back(spawn({self, "--server", std::to_string(p), std::to_string(batch),
-                         std::to_string(timeout_us), model, "1"}));
+                         std::to_string(timeout_us), model, std::to_string(threads)}));
   for (uint16_t p : ports)
     for (int i = 0; i < 1000 && !mqtt_test::port_open(p); ++i) g_usleep(10000);
   return out;
@@ -251,6 +278,79 @@ std::string batched_model(const std::string &model) {
   return out;
 }
 
+// The server's work at batch N in one process, no network: appsrc (N stacked frames, as
+// tensor_query_serversrc makes them) ! preprocessing ! tensor_filter ! fakesink, `frames`
+// buffers after a warm-up; process CPU and wall time per frame (= per slot). With `pre`
+// false the preprocessing runs once beforehand (appsrc gives float32 224:224:3:N): the
+// filter alone. Bounds what batching can give on this model and back end.
+struct Cost {
+  double cpu_ms = 0, wall_ms = 0;
+};
+
+Cost batch_cost(const std::string &model, int n, int threads, bool pre, int frames,
+                const std::vector<uint8_t> &frame) {
+  const std::string b = std::to_string(n);
+  std::string d = "appsrc name=src is-live=false format=time block=true max-buffers=2 ";
+  std::vector<uint8_t> data;
+  if (pre) {
+    d += "caps=\"other/tensors,format=static,num_tensors=1,dimensions=(string)3:224:224:" + b +
+         ",types=uint8,framerate=0/1\" ! " + kPre + " ! ";
+    for (int i = 0; i < n; ++i) data.insert(data.end(), frame.begin(), frame.end());
+  } else {
+    d += "caps=\"other/tensors,format=static,num_tensors=1,dimensions=(string)224:224:3:" + b +
+         ",types=float32,framerate=0/1\" ! ";
+    const float mean[3] = {123.675f, 116.28f, 103.53f}, sd[3] = {58.395f, 57.12f, 57.375f};
+    std::vector<float> chw(kFrame);
+    for (std::size_t i = 0; i < kFrame; ++i) {
+      const std::size_t c = i % 3, px = i / 3;
+      chw[c * 224 * 224 + px] = (frame[i] - mean[c]) / sd[c];
+    }
+    for (int i = 0; i < n; ++i)
+      data.insert(data.end(), reinterpret_cast<uint8_t *>(chw.data()),
+                  reinterpret_cast<uint8_t *>(chw.data() + chw.size()));
+  }
+  d += "tensor_filter framework=onnxruntime model=\"" + model +
+       "\" custom=NumThreads:" + std::to_string(threads);
+  if (n > 1) d += " input=224:224:3:" + b + " inputtype=float32";
+  d += " ! fakesink name=sink sync=false";
+  GstElement *p = launch(d);
+  GstElement *src = gst_bin_get_by_name(GST_BIN(p), "src");
+  GstBuffer *in = gst_buffer_new_memdup(data.data(), data.size());
+  gst_element_set_state(p, GST_STATE_PLAYING);
+  std::atomic<int> done{0};
+  GstElement *sink = gst_bin_get_by_name(GST_BIN(p), "sink");
+  GstPad *sp = gst_element_get_static_pad(sink, "sink");
+  gst_pad_add_probe(
+      sp, GST_PAD_PROBE_TYPE_BUFFER,
+      [](GstPad *, GstPadProbeInfo *, gpointer u) {
+        ++*static_cast<std::atomic<int> *>(u);
+        return GST_PAD_PROBE_OK;
+      },
+      &done, nullptr);
+  auto push_n = [&](int k) {
+    for (int i = 0; i < k; ++i) {
+      GstBuffer *c = gst_buffer_copy(in);  // shares the memory
+      gst_app_src_push_buffer(GST_APP_SRC(src), c);
+    }
+  };
+  push_n(3);
+  while (done < 3) g_usleep(1000);
+  const double c0 = cpu_s();
+  const int64_t t0 = now_ns();
+  push_n(frames);
+  while (done < 3 + frames) g_usleep(200);
+  Cost r;
+  r.cpu_ms = (cpu_s() - c0) * 1e3 / (static_cast<double>(frames) * n);
+  r.wall_ms = (now_ns() - t0) / 1e6 / (static_cast<double>(frames) * n);
+  gst_element_set_state(p, GST_STATE_NULL);
+  gst_buffer_unref(in);
+  gst_object_unref(sp);
+  gst_object_unref(sink);
+  gst_object_unref(src);
+  gst_object_unref(p);
+  return r;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -263,13 +363,14 @@ int main(int argc, char **argv) {
   if (argc >= 5 && !std::strcmp(argv[1], "--client"))
     return client_main(argv[2], std::atoi(argv[3]), argv[4], frame);
   int frames = 30, clients = 8;
-  std::string part = "all";
+  std::string part = "all", configs;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     if (k == "--frames") frames = std::atoi(argv[i + 1]);
     if (k == "--clients") clients = std::atoi(argv[i + 1]);
     if (k == "--part") part = argv[i + 1];
     if (k == "--model") model = argv[i + 1];
+    if (k == "--configs") configs = argv[i + 1];
   }
   const std::string so =
       std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_onnxruntime.so";
@@ -296,20 +397,56 @@ int main(int argc, char **argv) {
     const std::string bm = batched_model(model);
     if (bm.empty()) std::printf("batching: skipped (no /usr/bin/python3 with onnx)\n");
     struct Cfg {
-      int batch, timeout_us;
+      int batch, timeout_us, threads = 1;
     };
-    for (Cfg c : std::vector<Cfg>{{1, 0}, {4, 0}, {4, 2000}, {8, 0}, {8, 2000}, {8, 8000}}) {
+    std::vector<Cfg> cfgs{{1, 0}, {4, 0}, {4, 2000}, {8, 0}, {8, 2000}, {8, 8000}};
+    if (!configs.empty()) {  // "1:0,8:2000": max-batch:batch-timeout pairs, in this order
+      cfgs.clear();
+      for (const char *q = configs.c_str(); *q;) {
+        char *e = nullptr;
+        Cfg c{static_cast<int>(std::strtol(q, &e, 10)), 0};
+        if (*e == ':') c.timeout_us = static_cast<int>(std::strtol(e + 1, &e, 10));
+        if (*e == ':') c.threads = static_cast<int>(std::strtol(e + 1, &e, 10));
+        cfgs.push_back(c);
+        q = *e == ',' ? e + 1 : e;
+        if (*e && *e != ',') break;
+      }
+    }
+    for (Cfg c : cfgs) {
       if (c.batch > 1 && bm.empty()) continue;
       const uint16_t port = mqtt_test::free_port();
-      auto servers = start_servers(self, {port}, c.batch, c.timeout_us, c.batch > 1 ? bm : model);
+      auto servers =
+          start_servers(self, {port}, c.batch, c.timeout_us, c.batch > 1 ? bm : model, c.threads);
       const Result r =
           run_clients(self, "127.0.0.1:" + std::to_string(port), "none", clients, frames, servers);
-      const double cpu = stop_servers(servers);
+      double fill = 1;
+      const double cpu = stop_servers(servers, &fill);
       char what[96];
-      std::snprintf(what, sizeof what, "1 server, max-batch=%d batch-timeout=%d us", c.batch,
-                    c.timeout_us);
+      std::snprintf(
+          what, sizeof what, "1 server, max-batch=%d batch-timeout=%d us%s", c.batch, c.timeout_us,
+          c.threads != 1 ? (" ORT " + std::to_string(c.threads) + " threads").c_str() : "");
       report(what, r, cpu);
+      if (c.batch > 1) std::printf("    %.2f requests per batch (warm-up included)\n", fill);
     }
+  }
+  if (part == "cost") {
+    const std::string bm = batched_model(model);
+    if (bm.empty()) {
+      std::printf("cost: skipped (no /usr/bin/python3 with onnx)\n");
+      return 0;
+    }
+    for (int threads : {1, 2})
+      for (bool pre : {false, true})
+        for (int n : {1, 2, 4, 8}) {
+          const Cost c = batch_cost(n > 1 ? bm : model, n, threads, pre,
+                                    std::max(2, 8 * frames / 5 / n), frame);
+          std::printf(
+              "%s NumThreads:%d batch %d: %6.2f ms CPU/frame  %6.2f ms wall/frame  (load %s)\n",
+              pre ? "preprocessing + filter" : "filter alone          ", threads, n, c.cpu_ms,
+              c.wall_ms, loadavg().c_str());
+          std::fflush(stdout);
+        }
+    return 0;
   }
   if (part == "all" || part == "lb") {
     for (int n : {1, 2}) {

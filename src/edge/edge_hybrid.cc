@@ -59,6 +59,8 @@ class HybridServer final : public ServerNode {
     mqtt_ = std::make_unique<mqtt::Client>(mo, nullptr, [this](bool up, const std::string &) {
       if (up) announce();  // again after a broker restart (it may have forgotten it)
     });
+    // Ours: a server that dies (no clean stop) has the broker clear its announcement too.
+    mqtt_->set_will(topic_, std::string(), true);
     mqtt_->start();
     if (!mqtt_->wait_connected(std::chrono::milliseconds(kBrokerWaitMs))) {
       const std::string why = mqtt_->why();

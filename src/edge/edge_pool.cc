@@ -252,6 +252,17 @@ void ClientPool::maintain(int timeout_ms, std::string *why, bool *refused, bool 
       l->retired = false;
       l->generation = std::max(l->generation, s.generation);
     }
+    // A server whose announcement was cleared (it stopped, or the broker published its will)
+    // but whose session is still up: it gets nothing more, and its requests in flight are
+    // re-sent now (loop() -> fail_over) rather than waited for. Its session is closed there;
+    // a later announcement connects it again.
+    for (auto &l : links_)
+      if (l->retired && l->live && !l->closed) {
+        l->closed = true;
+        l->live = false;
+        l->why = "its announcement was cleared on the broker";
+        changed_ = true;
+      }
   }
   std::vector<std::shared_ptr<Link>> due;
   {

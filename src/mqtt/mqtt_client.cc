@@ -42,6 +42,13 @@ Client::~Client() {
   if (mosq_) mosquitto_destroy(mosq_);
 }
 
+void Client::set_will(const std::string &topic, const std::string &payload, bool retain) {
+  const int rc = mosquitto_will_set(mosq_, topic.c_str(), static_cast<int>(payload.size()),
+                                    payload.data(), 1, retain);
+  if (rc != MOSQ_ERR_SUCCESS)
+    fail(ErrorKind::kSettings, "MQTT will on topic '" + topic + "': " + mosq_text(rc));
+}
+
 void Client::start() {
   if (started_) return;
   const int rc = mosquitto_connect_async(mosq_, opts_.host.c_str(), opts_.port, opts_.keep_alive);

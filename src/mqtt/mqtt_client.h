@@ -39,6 +39,10 @@ class Client {
   Client(const Client &) = delete;
   Client &operator=(const Client &) = delete;
 
+  // Last will, before start(): published by the broker (QoS 1) when the connection ends
+  // without a DISCONNECT (the process died, the network broke). An empty payload with `retain`
+  // clears a retained message. Throws nns::Error when libmosquitto refuses it.
+  void set_will(const std::string &topic, const std::string &payload, bool retain);
   // Starts the network thread and the first connection attempt; returns at once. Throws
   // nns::Error when the host cannot be used at all.
   void start();

@@ -151,6 +151,7 @@ class Child {
     }
   }
   std::string log() const { return slurp(log_); }
+  pid_t pid() const { return pid_; }
 
  private:
   pid_t pid_ = -1;

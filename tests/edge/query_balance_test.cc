@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "../mqtt/mosquitto_broker.h"
+#include "mqtt/mqtt_client.h"
 #include "edge_test_util.h"
 #include "support/harness.h"
 
@@ -51,6 +52,15 @@ std::string hybrid_server(uint16_t port, const mqtt_test::Broker &b, const std::
          " dest-host=127.0.0.1 dest-port=" + b.port_str() + " topic=" + topic +
          (batch > 1 ? " max-batch=" + std::to_string(batch) + " batch-timeout=1000" : "") + " ! " +
          batch_caps(batch) + " ! " + kModel + "tensor_query_serversink connect-type=HYBRID";
+}
+
+// A slow server (each request held `sleep_us`) announcing `topic`, as hybrid_server.
+std::string slow_hybrid_server(uint16_t port, const mqtt_test::Broker &b, const std::string &topic,
+                               int sleep_us) {
+  return "tensor_query_serversrc connect-type=HYBRID host=127.0.0.1 port=" + std::to_string(port) +
+         " dest-host=127.0.0.1 dest-port=" + b.port_str() + " topic=" + topic + " ! " + kCaps +
+         " ! " + kModel + "identity sleep-time=" + std::to_string(sleep_us) +
+         " ! tensor_query_serversink connect-type=HYBRID";
 }
 
 std::string tcp_server(uint16_t port) {
@@ -316,4 +326,88 @@ TEST(QueryBalance, BadServerListIsNamed) {
   EXPECT_NE(errors.find("dest-host '127.0.0.1:1,:x': entry ':x' is not host or host:port"),
             std::string::npos)
       << errors;
+}
+
+// A server leaving through the broker only (its retained announcement cleared, as its will or
+// its stop does; its TCP session stays up): the clients send it nothing more and re-send its
+// requests in flight to the other server; no frame is lost or answered twice.
+TEST(QueryBalance, ServerLeavingThroughTheBrokerIsDrainedAndResent) {
+  mqtt_test::Broker b;
+  MQTT_REQUIRE_BROKER(b);
+  const std::string topic = "lbl" + std::to_string(getpid());
+  Servers s;
+  for (int i = 0; i < 2; ++i) {
+    const uint16_t port = free_port();
+    // Server 0 holds each request 20 ms: requests are in flight there when it leaves.
+    s.add(i == 0 ? slow_hybrid_server(port, b, topic, 20000) : hybrid_server(port, b, topic), port,
+          "lbl");
+  }
+  ASSERT_TRUE(s.wait());
+  std::this_thread::sleep_for(200ms);
+  // The announcement topic of server 0 (docs/hybrid.md): device-<pid>_<port>.
+  const std::string announced = "edge/inference/device-" + std::to_string(s.procs[0]->pid()) + "_" +
+                                std::to_string(s.ports[0]) + "/" + topic + "/";
+  nns::mqtt::Client pub({"127.0.0.1", b.port(), "lbl_test_" + std::to_string(getpid()), 60, true});
+  pub.start();
+  ASSERT_TRUE(pub.wait_connected(5s)) << pub.why();
+  const auto r = run_clients(
+      4, 300, hybrid_client(b, topic, "load-balance=round-robin"), 1ms,
+      [&] {
+        ASSERT_TRUE(pub.publish(announced, nullptr, 0, 1, true)) << pub.why();
+        pub.flush(2s);
+      },
+      120);
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(r.received[c], 300u) << "client " << c << " " << r.errors[c] << r.warnings[c];
+    EXPECT_EQ(r.lost[c] + r.dropped[c], 0u) << r.servers[c];
+    EXPECT_NE(r.warnings[c].find("lost the connection to the query server 127.0.0.1:" +
+                                 std::to_string(s.ports[0]) +
+                                 " (its announcement was cleared on the broker)"),
+              std::string::npos)
+        << r.warnings[c];
+  }
+  EXPECT_GT(r.sum("resent"), 0u) << "no request was in flight when the server left";
+  EXPECT_FALSE(s.procs[0]->exited()) << "the server process itself must still be up";
+}
+
+// A server that dies without stopping (SIGKILL) has its announcement cleared by the broker
+// (its MQTT will: an empty retained message), so clients that come later do not try it.
+TEST(QueryBalance, KilledServerIsForgottenThroughItsWill) {
+  mqtt_test::Broker b;
+  MQTT_REQUIRE_BROKER(b);
+  const std::string topic = "lbw" + std::to_string(getpid());
+  Servers s;
+  for (int i = 0; i < 2; ++i) {
+    const uint16_t port = free_port();
+    s.add(hybrid_server(port, b, topic), port, "lbw");
+  }
+  ASSERT_TRUE(s.wait());
+  // The retained announcements a new subscriber gets: "host:port" per server.
+  auto announced = [&] {
+    std::mutex m;
+    std::set<std::string> got;
+    nns::mqtt::Client sub({"127.0.0.1", b.port(), "lbw_sub_" + std::to_string(getpid()), 60, true},
+                          [&](const std::string &, const uint8_t *data, std::size_t n) {
+                            std::lock_guard<std::mutex> l(m);
+                            if (n > 1)
+                              got.insert(std::string(reinterpret_cast<const char *>(data), n - 1));
+                          });
+    sub.subscribe("edge/inference/+/" + topic + "/#", 1);
+    sub.start();
+    EXPECT_TRUE(sub.wait_connected(5s)) << sub.why();
+    std::this_thread::sleep_for(300ms);
+    sub.stop();
+    std::lock_guard<std::mutex> l(m);
+    return got;
+  };
+  const std::string a = "127.0.0.1:" + std::to_string(s.ports[0]),
+                    c = "127.0.0.1:" + std::to_string(s.ports[1]);
+  std::set<std::string> before;
+  for (int i = 0; i < 20 && before.size() < 2; ++i) before = announced();
+  ASSERT_EQ(before, (std::set<std::string>{a, c}));
+  s.procs[0]->kill_now();
+  std::set<std::string> after = announced();
+  for (int i = 0; i < 10 && after.count(a); ++i) after = announced();
+  EXPECT_EQ(after, std::set<std::string>{c})
+      << "the killed server's announcement stayed: " << b.log();
 }

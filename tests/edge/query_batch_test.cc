@@ -36,8 +36,30 @@ for name, n in (("dyn", "N"), ("fixed8", 8), ("fixed1", 1)):
     m.ir_version = 7
     onnx.checker.check_model(m)
     onnx.save(m, out + "/" + name + ".onnx")
+# Sums over the batch: Y [1,8] whatever N (an answer that cannot be split).
+X = helper.make_tensor_value_info("X", TensorProto.FLOAT, ["N", 8])
+Y = helper.make_tensor_value_info("Y", TensorProto.FLOAT, [1, 8])
+g = helper.make_graph([helper.make_node("ReduceSum", ["X", "axes"], ["Y"], keepdims=1)], "sum0",
+                      [X], [Y], [numpy_helper.from_array(np.array([0], np.int64), "axes")])
+m = helper.make_model(g, opset_imports=[helper.make_opsetid("", 13)])
+m.ir_version = 7
+onnx.save(m, out + "/sum0.onnx")
 W.tofile(out + "/W.raw")
 B.tofile(out + "/B.raw")
+# The same model as .tflite (tests/data/tflite_writer.py, python3-flatbuffers): x [1,8],
+# FULLY_CONNECTED with weights [4,8] (out, in): a batch of 1 in the file, re-translated at N.
+try:
+    sys.path.insert(0, sys.argv[2])
+    import tflite_writer as tw
+    g = tw.Graph()
+    x = g.tensor("x", (1, 8), np.float32)
+    y = g.tensor("y", (1, 4), np.float32)
+    g.op(tw.FULLY_CONNECTED, [x, g.const("w", W.T.copy()), g.const("b", B)], [y],
+         [(0, "i8", tw.ACT_NONE)])
+    g.inputs, g.outputs = [x], [y]
+    open(out + "/lin.tflite", "wb").write(g.serialize("query batch test"))
+except ImportError:
+    pass
 )PY";
 
 using nns::test::read_file;
@@ -181,14 +203,35 @@ void expect_model(const std::vector<std::vector<std::vector<uint8_t>>> &answers)
     }
 }
 
+// 8 clients x `frames` to an unbatched server (`ref`, another process) and to a batching one
+// (`batched`, here): answers byte for byte equal, equal to the model computed here, and the
+// requests were really batched.
+void expect_batched_as_unbatched(const std::string &ref_desc, uint16_t ref_port,
+                                 const std::string &batched_desc, uint16_t batched_port,
+                                 int frames) {
+  Child ref(ref_desc, "qb_ref");
+  LocalServer batched(batched_desc);
+  ASSERT_TRUE(ref.wait_port(ref_port)) << ref.log();
+  const auto want = ask(ref_port, 8, frames);
+  const auto got = ask(batched_port, 8, frames);
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ(got[c], want[c]) << "client " << c;
+  expect_model(got);
+  GstStructure *st = batched.stats();
+  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
+  gst_structure_free(st);
+  EXPECT_EQ(requests, 8u * static_cast<guint64>(frames));
+  EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
+}
+
 class QueryBatch : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     const std::string dir = nns::test::make_temp_dir();
     const std::string script = dir + "/gen.py";
     std::ofstream(script) << kGen;
-    const std::string cmd =
-        "/usr/bin/python3 " + script + " " + dir + " > " + dir + "/gen.log 2>&1";
+    const std::string cmd = "/usr/bin/python3 " + script + " " + dir + " " + NNS_SOURCE_DIR +
+                            "/tests/data > " + dir + "/gen.log 2>&1";
     if (std::system(cmd.c_str()) == 0) g_dir = dir;
   }
   void SetUp() override {
@@ -207,19 +250,8 @@ TEST(EdgeChild, Run) {
 // the model computed here, and the requests were really batched.
 TEST_F(QueryBatch, DynamicBatchModelAnswersAsUnbatched) {
   const uint16_t p1 = free_port(), p8 = free_port();
-  Child ref(server_desc(p1, 1, 0, "dyn"), "qb_ref");
-  LocalServer batched(server_desc(p8, 8, 20000, "dyn"));
-  ASSERT_TRUE(ref.wait_port(p1)) << ref.log();
-  const auto want = ask(p1, 8, 40);
-  const auto got = ask(p8, 8, 40);
-  ASSERT_EQ(got.size(), want.size());
-  for (std::size_t c = 0; c < got.size(); ++c) EXPECT_EQ(got[c], want[c]) << "client " << c;
-  expect_model(got);
-  GstStructure *st = batched.stats();
-  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
-  gst_structure_free(st);
-  EXPECT_EQ(requests, 8u * 40u);
-  EXPECT_LT(batches * 2, requests) << "fewer than 2 requests per batch on average";
+  expect_batched_as_unbatched(server_desc(p1, 1, 0, "dyn"), p1, server_desc(p8, 8, 20000, "dyn"),
+                              p8, 40);
 }
 
 // PyTorch back end: a TorchScript module run at batch 8 (input=8:8), 8 clients.
@@ -249,6 +281,29 @@ TEST_F(QueryBatch, PytorchModelAtBatchEight) {
   gst_structure_free(st);
   EXPECT_EQ(requests, 8u * 20u);
   EXPECT_LT(batches * 2, requests);
+}
+
+// TFLite back end (the model file has a batch of 1; input=8:8 re-translates it at batch 8):
+// 8 clients' answers byte for byte those of an unbatched server running the file as is.
+TEST_F(QueryBatch, TfliteModelAtBatchEightAnswersAsUnbatched) {
+  const std::string so =
+      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_tensorflow2-lite.so";
+  if (!std::ifstream(so)) GTEST_SKIP() << "tflite back end not built (" << so << ")";
+  if (!std::ifstream(g_dir + "/lin.tflite"))
+    NNS_SKIP_UNLESS_CI("/usr/bin/python3 with flatbuffers cannot write the .tflite model");
+  auto server = [&](uint16_t port, int n) {
+    const std::string d = std::to_string(n);
+    return "tensor_query_serversrc name=src host=127.0.0.1 port=" + std::to_string(port) +
+           " max-batch=" + d +
+           " batch-timeout=20000 ! "
+           "other/tensors,format=static,num_tensors=1,dimensions=(string)8:" +
+           d +
+           ",types=float32,framerate=0/1 ! tensor_filter framework=tensorflow-lite model=" + g_dir +
+           "/lin.tflite" + (n > 1 ? " input=8:" + d + " inputtype=float32" : "") +
+           " ! tensor_query_serversink";
+  };
+  const uint16_t p1 = free_port(), p8 = free_port();
+  expect_batched_as_unbatched(server(p1, 1), p1, server(p8, 8), p8, 30);
 }
 
 // A model with a fixed batch of 8.
@@ -288,6 +343,25 @@ TEST_F(QueryBatch, FixedBatchOneModelRefusesMaxBatch) {
   }
 }
 
+// A model that does not keep the batch outermost in its answer (sums over it): an error from
+// tensor_query_serversink naming the answer tensor, not answers split into garbage.
+TEST_F(QueryBatch, AnswerWithoutTheBatchIsAnError) {
+  const uint16_t port = free_port();
+  LocalServer s("tensor_query_serversrc host=127.0.0.1 port=" + std::to_string(port) +
+                " max-batch=8 ! other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,"
+                "types=float32,framerate=0/1 ! " +
+                filter("sum0", 8) + "tensor_query_serversink");
+  AppPipeline c(client_desc(port), kInCaps);
+  c.play();
+  c.push(input(0, 0), 0);
+  const std::string err = s.error(10 * GST_SECOND);
+  EXPECT_NE(err.find("a batch of 8 requests (tensor_query_serversrc max-batch) cannot be split: "
+                     "answer tensor 0 is float32 8:1, its outermost dimension must be the batch "
+                     "(8)"),
+            std::string::npos)
+      << err;
+}
+
 // batch-timeout bounds how long a lone request waits for company.
 TEST_F(QueryBatch, TimeoutBoundsALoneRequest) {
   for (guint64 timeout_us : {0ull, 100000ull}) {
@@ -314,4 +388,35 @@ TEST_F(QueryBatch, TimeoutBoundsALoneRequest) {
     EXPECT_LT(worst, bound + 150.0)
         << "a lone request waited well past batch-timeout=" << timeout_us << " us";
   }
+}
+
+// batch-timeout counts from when the server is free for a request that was already waiting:
+// b arrives while a's batch is computed (identity sleeps 500 ms), and c, sent when a's answer
+// came, still joins b's batch (400 ms of margin for c's connection under load). (Counting from b's
+// arrival, b left alone at once: lockstep clients then split into groups that never meet, every
+// batch half padding.)
+TEST_F(QueryBatch, RequestWaitingWhileBusyWaitsForCompany) {
+  const uint16_t port = free_port();
+  LocalServer s("tensor_query_serversrc name=src host=127.0.0.1 port=" + std::to_string(port) +
+                " max-batch=2 batch-timeout=400000 ! other/tensors,format=static,num_tensors=1,"
+                "dimensions=(string)8:2,types=float32,framerate=0/1 ! " +
+                filter("dyn", 2) + "identity sleep-time=500000 ! tensor_query_serversink");
+  AppPipeline a(client_desc(port), kInCaps), b(client_desc(port), kInCaps),
+      c(client_desc(port), kInCaps);
+  a.play();
+  b.play();
+  c.play();
+  std::vector<uint8_t> got;
+  a.push(input(0, 0), 0);  // alone: leaves after 400 ms, computed until ~900 ms
+  std::this_thread::sleep_for(500ms);
+  b.push(input(1, 0), 0);  // waits while a's batch is computed
+  ASSERT_TRUE(a.pull(&got)) << joined(a.messages(GST_MESSAGE_ERROR));
+  c.push(input(2, 0), 0);  // the server is free now: c joins b
+  ASSERT_TRUE(b.pull(&got)) << joined(b.messages(GST_MESSAGE_ERROR));
+  ASSERT_TRUE(c.pull(&got)) << joined(c.messages(GST_MESSAGE_ERROR));
+  GstStructure *st = s.stats();
+  const guint64 batches = stat(st, "batches"), requests = stat(st, "batched");
+  gst_structure_free(st);
+  EXPECT_EQ(requests, 3u);
+  EXPECT_EQ(batches, 2u) << "b left without waiting for c: batch-timeout counted from b's arrival";
 }

@@ -16,6 +16,7 @@
 
 #include <atomic>
 #include <mutex>
+#include <optional>
 
 #include "gst/edge_glue.h"
 #include "gst/edge_props.h"
@@ -43,6 +44,7 @@ struct ServerSinkPriv {
   // streaming state
   std::shared_ptr<nns::gst::QueryServerShared> shared;
   bool tensor_caps = false;
+  std::optional<nns::TensorsConfig> config;  // static tensor caps: checked against batches
   gint metaless = 0;
   std::atomic<guint64> sent{0}, dropped{0};
 };
@@ -146,6 +148,12 @@ static gboolean serversink_stop(GstBaseSink *bsink) {
 static gboolean serversink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
   auto *p = GST_TENSOR_QUERY_SERVERSINK(bsink)->priv;
   p->tensor_caps = nns::gst::is_tensor_caps(caps);
+  p->config.reset();
+  if (p->tensor_caps && gst_caps_is_fixed(caps)) try {
+      nns::TensorsConfig c = nns::gst::config_from_caps(caps);
+      if (c.info.format == nns::TensorFormat::kStatic) p->config = c;
+    } catch (const nns::Error &) {
+    }
   return TRUE;
 }
 
@@ -186,6 +194,21 @@ static GstFlowReturn serversink_render(GstBaseSink *bsink, GstBuffer *buf) {
     const auto clients = nns::gst::buffer_get_batch_meta(buf, &slots);
     if (!clients.empty()) {  // a batch (serversrc max-batch): slot i answers clients[i]
       const auto &mems = view.frame().mems;
+      // Static caps say where the batch is: every answer tensor must keep it outermost (a
+      // model that reduces over the batch would otherwise be split into garbage).
+      if (p->config)
+        for (std::size_t i = 0; i < p->config->info.size(); ++i) {
+          const auto &t = p->config->info[i];
+          const std::size_t r = t.rank();
+          if (r == 0 || t.dims[r - 1] != slots)
+            nns::fail(nns::ErrorKind::kStream,
+                      "a batch of " + std::to_string(slots) +
+                          " requests (tensor_query_serversrc max-batch) cannot be split: answer "
+                          "tensor " +
+                          std::to_string(i) + " is " + t.to_string() +
+                          ", its outermost dimension must be the batch (" + std::to_string(slots) +
+                          "); the model must keep the batch outermost");
+        }
       for (const auto &m : mems)
         if (slots == 0 || m.size % slots != 0 || clients.size() > slots)
           nns::fail(nns::ErrorKind::kStream,

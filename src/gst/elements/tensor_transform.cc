@@ -17,12 +17,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/transform_kernels.h"
+#include "gst/memory_recycler.h"
 #include "gst/element_glue.h"
 #include "gst/gst_ptr.h"
 #include "gst/tensor_buffer.h"
@@ -86,6 +88,9 @@ struct State {
   TensorsConfig in, out;
   bool in_flexible = false, out_flexible = false;
   std::vector<std::optional<tr::Plan>> plans;  // static: per tensor; flexible: cache per index
+  // Output memories reused once downstream let them go (large tensors: no fresh pages per
+  // buffer, src/gst/memory_recycler.h).
+  std::shared_ptr<nns::gst::MemoryRecycler> recycler = std::make_shared<nns::gst::MemoryRecycler>();
 };
 
 struct TransformPriv {
@@ -485,9 +490,10 @@ static GstFlowReturn gst_tensor_transform_prepare_output_buffer(GstBaseTransform
 }
 
 // Output memory for one transformed tensor (header first when the output is flexible).
-static GstMemory *run_plan(const tr::Plan &plan, const guint8 *src, bool flexible) {
+static GstMemory *run_plan(State &st, const tr::Plan &plan, const guint8 *src, bool flexible) {
   const gsize head = flexible ? nns::kMetaHeaderSize : 0;
-  GstMemory *out = gst_allocator_alloc(nullptr, head + plan.out.byte_size(), nullptr);
+  GstMemory *out = st.recycler->alloc(head + plan.out.byte_size());
+  if (!out) throw Error(ErrorKind::kStream, "cannot allocate an output memory");
   nns::gst::MemoryMap map(out, GST_MAP_WRITE);
   if (!map.ok()) {
     gst_memory_unref(out);
@@ -524,7 +530,7 @@ static void transform_static(State &st, GstBuffer *inbuf, GstBuffer *outbuf) {
       if (!map.ok())
         throw Error(ErrorKind::kStream,
                     "tensor " + std::to_string(i) + ": cannot map the input memory");
-      out = run_plan(*plan, map.data(), st.out_flexible);
+      out = run_plan(st, *plan, map.data(), st.out_flexible);
     }
     nns::gst::buffer_append_tensor(outbuf, out, st.out.info[i]);
   }
@@ -579,8 +585,8 @@ static void transform_flexible(State &st, GstBuffer *inbuf, GstBuffer *outbuf) {
       nns::gst::buffer_append_tensor(outbuf, gst_memory_ref(mem.get()), plan.out);
       continue;
     }
-    nns::gst::buffer_append_tensor(outbuf, run_plan(plan, map.data() + nns::kMetaHeaderSize, true),
-                                   plan.out);
+    nns::gst::buffer_append_tensor(
+        outbuf, run_plan(st, plan, map.data() + nns::kMetaHeaderSize, true), plan.out);
   }
 }
 
