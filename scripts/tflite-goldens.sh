@@ -47,6 +47,13 @@ for v in ties:
 y.tofile(sys.argv[2])
 PY
 run "$tmp/movenet_t201.tflite" "$out/movenet_tie_free_t201" "$tmp/tie_free.rgb"
+# MoveNet's input scaling (tensor 178, after CAST, QUANTIZE, SUB, MUL, SUB) on every byte value:
+# an input whose bytes count 0..255 over and over; the first 256 outputs are kept.
+/usr/bin/python3 "$tools/tflite_patch.py" output "$models/movenet_single_pose_lightning_ptq.tflite" \
+  "$tmp/movenet_t178.tflite" 178
+/usr/bin/python3 -c "import numpy as n,sys; (n.arange(192*192*3)%256).astype(n.uint8).tofile(sys.argv[1])" "$tmp/ramp.raw"
+run "$tmp/movenet_t178.tflite" "$tmp/movenet_ramp_t178" "$tmp/ramp.raw"
+head -c 256 "$tmp/movenet_ramp_t178.0.raw" >"$out/movenet_ramp_t178.raw"
 
 # person_detect: TFLite refuses its 1-D biases quantized along axis 3; the copy says axis 0.
 /usr/bin/python3 "$tools/tflite_patch.py" unaxis-bias "$models/person_detect.tflite" "$tmp/pd.tflite"
