@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: LGPL-2.1-only
 # tflite back-end tests: they build models with the back end's schema (nns_tflite_model carries
 # the flatc-generated header) and need the sub-plugin built first.
-foreach(t tflite_ops_test tflite_ops_data_test tflite_ops_misc_test tflite_backend_test
+foreach(t tflite_ops_test tflite_ops_data_test tflite_ops_misc_test tflite_quant_add_test tflite_backend_test
           tflite_reference_test tflite_deeplab_test)
   if(TARGET ${t} AND TARGET nns_tflite_model)
     target_link_libraries(${t} PRIVATE nns_tflite_model)

@@ -66,8 +66,10 @@ void Translator::translate_op(const Op &op, Translation &tr) {
     case B::BuiltinOperator_FULLY_CONNECTED:
       return fully_connected(op);
     case B::BuiltinOperator_ADD:
+      if (quant_add_table(op, false, fused_of())) return;
       return elementwise("Add", 2, fused_of());
     case B::BuiltinOperator_SUB:
+      if (quant_add_table(op, true, fused_of())) return;
       return elementwise("Sub", 2, fused_of());
     case B::BuiltinOperator_MUL:
       return elementwise("Mul", 2, fused_of());

@@ -405,6 +405,9 @@ class Translator {
   void resize(const Op &op, bool bilinear);
   void strided_slice(const Op &op);
   void detection_post(const Op &op, Translation &tr);
+  // Quantized ADD/SUB with a constant single-valued operand as an exact table of TFLite's
+  // integer results (tflite_quant_add.cc); false when the op does not qualify.
+  bool quant_add_table(const Op &op, bool sub, int fused);
 
   const Model &m_;
   const std::vector<std::vector<int64_t>> &in_shapes_;
