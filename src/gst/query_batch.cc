@@ -49,7 +49,10 @@ GstCaps *unbatch_caps(GstCaps *caps, guint n) {
       ok = ok && r > 0 && t.dims[r - 1] == n;
       if (ok) t.dims[r - 1] = 1;
     }
-    if (ok) gst_caps_append(out, caps_from_config(*c, true));
+    // One other/tensors structure per config, no list of spellings nor other/tensor twin: fixed
+    // caps stay fixed, as NNStreamer's client requires of the answer caps (else "out-caps from
+    // tensor_query_serversink is not fixed" and no answers). Field order as upstream's.
+    if (ok) out = gst_caps_merge_structure(out, structure_from_config(*c));
   }
   return out;
 }

@@ -20,7 +20,8 @@ namespace nns::gst {
 
 // Caps of one request from caps of a batch of `n`: every static tensor structure whose
 // tensors all have `n` as outermost dimension gets 1 there; others are dropped. ANY stays ANY.
-// Returns a new reference.
+// Fixed caps give fixed caps (one structure, no dimension variants), as NNStreamer's client
+// requires of the answer caps. Returns a new reference.
 GstCaps *unbatch_caps(GstCaps *caps, guint n);
 
 // Why `caps` cannot carry batches of `n` (nullopt when they can): tensor caps, static, at
