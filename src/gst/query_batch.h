@@ -35,3 +35,16 @@ void buffer_add_batch_meta(GstBuffer *buf, guint slots, const std::vector<int64_
 std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots);
 
 }  // namespace nns::gst
+
+namespace nns::gst {
+
+// The batching source feeding `e` (a tensor_query_serversrc with max-batch > 1, or any
+// element with a `max-batch` property above 1), found by walking upstream past elements with
+// one sink pad (capsfilters, queues): "tensor_query_serversrc 'src'" and its max-batch.
+struct UpstreamBatch {
+  std::string who;
+  guint n = 1;
+};
+std::optional<UpstreamBatch> upstream_batch(GstElement *e);
+
+}  // namespace nns::gst
