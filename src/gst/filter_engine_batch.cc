@@ -71,7 +71,7 @@ void FilterEngine::refuse_batch(const FilterSettings &s, const TensorsInfo &want
     return;  // input= differs from the model beyond the batch: the cause says how
   std::string got;
   if (!known) {
-    got = "a model whose input shapes the back end does not declare";
+    got = "a model that does not run at " + n + " (the back end declares no input shapes)";
   } else {
     std::string fixed;
     for (std::size_t i = 0; i < mi.size(); ++i) {

@@ -397,6 +397,40 @@ TEST_F(QueryBatch, FixedBatchTfliteModelIsRefusedNamingItsInput) {
   }
 }
 
+// The same refusal from the PyTorch back end (TorchScript declares no shapes: its probe run at
+// input=8:8 fails in a reshape to [1,4]).
+TEST_F(QueryBatch, FixedBatchPytorchModelIsRefused) {
+  const std::string so =
+      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_pytorch.so";
+  if (!std::ifstream(so)) GTEST_SKIP() << "pytorch back end not built (" << so << ")";
+  const std::string script = g_dir + "/gen_torch_fixed.py";
+  std::ofstream(script) << "import sys, torch\n"
+                           "class M(torch.nn.Module):\n"
+                           "    def forward(self, x):\n"
+                           "        return (x[:, :4] * 2.0).reshape(1, 4)\n"
+                           "torch.jit.trace(M().eval(), torch.zeros(1, 8)).save(sys.argv[1])\n";
+  if (std::system(("/usr/bin/python3 " + script + " " + g_dir + "/fixed1.pt > " + g_dir +
+                   "/gen_torch_fixed.log 2>&1")
+                      .c_str()) != 0)
+    NNS_SKIP_UNLESS_CI("/usr/bin/python3 with torch cannot write the TorchScript model");
+  LocalServer s(
+      "tensor_query_serversrc name=src host=127.0.0.1 port=0 max-batch=8 ! "
+      "other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,types=float32,"
+      "framerate=0/1 ! tensor_filter name=f framework=pytorch model=" +
+      g_dir + "/fixed1.pt input=8:8 inputtype=float32 ! tensor_query_serversink");
+  const std::string err = s.error(10 * GST_SECOND);
+  EXPECT_NE(err.find("f: max-batch=8 (tensor_query_serversrc 'src'): the input of f (framework "
+                     "'pytorch', model '"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("fixed1.pt') cannot take a batch: expected a batch dimension (the "
+                     "outermost) that can grow to 8, got a model that does not run at 8 (the "
+                     "back end declares no input shapes) (input=8:8 fails); use max-batch=1"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("shape '[1, 4]' is invalid for input of size 32"), std::string::npos) << err;
+}
+
 // A model that does not keep the batch outermost in its answer (sums over it): an error from
 // tensor_query_serversink naming the answer tensor, not answers split into garbage.
 TEST_F(QueryBatch, AnswerWithoutTheBatchIsAnError) {
