@@ -118,6 +118,17 @@ std::string FilterEngine::where() const {
 }
 
 void FilterEngine::open(const FilterSettings &s) {
+  try {
+    open_model(s);
+  } catch (const Error &e) {
+    // input= asks a batch (tensor_query_serversrc max-batch) the model cannot take: the back
+    // end's message (ONNX Runtime's reshape error...) becomes the detail of a clear refusal.
+    if (!s.input.empty()) refuse_batch(s, make_open_spec(s).input, "input=", e.what());
+    throw;
+  }
+}
+
+void FilterEngine::open_model(const FilterSettings &s) {
   close();
   settings_ = s;
   combi_ = parse_combination(s.input_combination, s.output_combination);
@@ -324,12 +335,14 @@ void FilterEngine::configure(GstCaps *incaps, GstCaps *outcaps) {
   } else {
     if (!in_flexible_) {
       model_in_ = combi_.model_input(frame_in_);
-      if (eff_in_known_ && !model_in_.same_as(eff_in_))
-        fail(ErrorKind::kNegotiation,
-             where() + ": the input stream " +
-                 (combi_.in_defined ? "(after input-combination) " : "") + "has " +
-                 model_in_.to_string() + ", but " + in_source_ + " " + eff_in_.to_string() +
-                 "; caps: " + caps_to_string(incaps) + upstream_note(element_));
+      if (eff_in_known_ && !model_in_.same_as(eff_in_)) {
+        const std::string cause = where() + ": the input stream " +
+                                  (combi_.in_defined ? "(after input-combination) " : "") + "has " +
+                                  model_in_.to_string() + ", but " + in_source_ + " " +
+                                  eff_in_.to_string() + "; caps: " + caps_to_string(incaps);
+        refuse_batch(settings_, model_in_, "the stream ", cause);
+        fail(ErrorKind::kNegotiation, cause + upstream_note(element_));
+      }
     } else {
       if (!eff_in_known_)
         fail(ErrorKind::kNegotiation,

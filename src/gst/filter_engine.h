@@ -112,7 +112,16 @@ class FilterEngine {
   };
 
   std::string where() const;  // "framework 'x', model 'y'"
+  void open_model(const FilterSettings &settings);
   void check_model_shapes();
+  // A batching source upstream (tensor_query_serversrc max-batch > 1) whose batch the model
+  // cannot take: throws the refusal naming max-batch, the model's inputs, `want` (the batched
+  // input, `what`: "input=" or "the stream") and `cause` (the back end's or the shape check's
+  // message). Returns when there is no batching source, when `want` differs from the model
+  // beyond the batch, or when the model does not open at its own shapes either (`cause` then
+  // stands alone). filter_engine_batch.cc.
+  void refuse_batch(const FilterSettings &settings, const TensorsInfo &want,
+                    const std::string &what, const std::string &cause);
   void release_inputs(std::size_t n);
   void release_outputs(bool free_mems);
   GstMemory *pass_input(std::size_t i);

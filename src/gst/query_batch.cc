@@ -118,3 +118,46 @@ std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots) {
 }
 
 }  // namespace nns::gst
+
+namespace nns::gst {
+
+GstElement *find_upstream(GstElement *e, const char *property) {
+  GstPad *pad = gst_element_get_static_pad(e, "sink");
+  GstElement *found = nullptr;
+  for (int hop = 0; hop < 8 && pad && !found; ++hop) {
+    GstPad *peer = gst_pad_get_peer(pad);
+    gst_object_unref(pad);
+    pad = nullptr;
+    if (!peer) break;
+    GstElement *up = gst_pad_get_parent_element(peer);
+    gst_object_unref(peer);
+    if (!up) break;
+    if (g_object_class_find_property(G_OBJECT_GET_CLASS(up), property)) {
+      found = up;
+      break;
+    }
+    if (up->numsinkpads == 1) pad = gst_element_get_static_pad(up, "sink");
+    gst_object_unref(up);
+  }
+  if (pad) gst_object_unref(pad);
+  return found;
+}
+
+std::string element_label(GstElement *e) {
+  GstElementFactory *f = gst_element_get_factory(e);
+  return std::string(f ? GST_OBJECT_NAME(f) : "element") + " '" + GST_OBJECT_NAME(e) + "'";
+}
+
+std::optional<UpstreamBatch> upstream_batch(GstElement *e) {
+  GstElement *up = find_upstream(e, "max-batch");
+  if (!up) return std::nullopt;
+  guint n = 1;
+  GParamSpec *ps = g_object_class_find_property(G_OBJECT_GET_CLASS(up), "max-batch");
+  if (ps->value_type == G_TYPE_UINT) g_object_get(up, "max-batch", &n, nullptr);
+  UpstreamBatch b{element_label(up), n};
+  gst_object_unref(up);
+  if (n <= 1) return std::nullopt;
+  return b;
+}
+
+}  // namespace nns::gst

@@ -36,3 +36,22 @@ void buffer_add_batch_meta(GstBuffer *buf, guint slots, const std::vector<int64_
 std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots);
 
 }  // namespace nns::gst
+
+namespace nns::gst {
+
+// The first element upstream of `e` with a property `property`, walking past elements with
+// one sink pad (capsfilters, queues, transforms), at most 8 hops; nullptr if none. Returns a
+// new reference.
+GstElement *find_upstream(GstElement *e, const char *property);
+// "tensor_query_serversrc 'src'" for messages.
+std::string element_label(GstElement *e);
+
+// The batching source feeding `e` (a tensor_query_serversrc with max-batch > 1, or any
+// element with a `max-batch` property above 1): "tensor_query_serversrc 'src'" and max-batch.
+struct UpstreamBatch {
+  std::string who;
+  guint n = 1;
+};
+std::optional<UpstreamBatch> upstream_batch(GstElement *e);
+
+}  // namespace nns::gst

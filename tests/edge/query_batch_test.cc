@@ -58,6 +58,16 @@ try:
          [(0, "i8", tw.ACT_NONE)])
     g.inputs, g.outputs = [x], [y]
     open(out + "/lin.tflite", "wb").write(g.serialize("query batch test"))
+    # The batch baked in: a RESHAPE to [1,4] after it (fails when re-translated at N > 1).
+    g = tw.Graph()
+    x = g.tensor("x", (1, 8), np.float32)
+    h = g.tensor("h", (1, 4), np.float32)
+    y = g.tensor("y", (1, 4), np.float32)
+    g.op(tw.FULLY_CONNECTED, [x, g.const("w", W.T.copy()), g.const("b", B)], [h],
+         [(0, "i8", tw.ACT_NONE)])
+    g.op(tw.RESHAPE, [h], [y], [(0, "vi32", [1, 4])])
+    g.inputs, g.outputs = [x], [y]
+    open(out + "/fixed1.tflite", "wb").write(g.serialize("query batch test, fixed batch"))
 except ImportError:
     pass
 )PY";
@@ -334,7 +344,13 @@ TEST_F(QueryBatch, FixedBatchOneModelRefusesMaxBatch) {
           << err;
       EXPECT_NE(err.find("outermost dimension must be 4 (the batch), got 1"), std::string::npos)
           << err;
-    } else {  // tensor_filter's own check of the batch caps 8:4 against the model's input
+    } else {  // tensor_filter's check of the batch caps 8:4 against the model's input
+      EXPECT_NE(err.find("max-batch=4 (tensor_query_serversrc 'tensorqueryserversrc"),
+                std::string::npos)
+          << err;
+      EXPECT_NE(err.find("got a model that fixes it to 1 (the stream 8:4 fails); use max-batch=1"),
+                std::string::npos)
+          << err;
       EXPECT_NE(err.find("fixed1.onnx': the input stream has 1 tensor(s): [0] float32 8:4, but"),
                 std::string::npos)
           << err;
@@ -343,21 +359,94 @@ TEST_F(QueryBatch, FixedBatchOneModelRefusesMaxBatch) {
   }
 }
 
-// A model that does not keep the batch outermost in its answer (sums over it): an error from
-// tensor_query_serversink naming the answer tensor, not answers split into garbage.
-TEST_F(QueryBatch, AnswerWithoutTheBatchIsAnError) {
-  const uint16_t port = free_port();
-  LocalServer s("tensor_query_serversrc host=127.0.0.1 port=" + std::to_string(port) +
-                " max-batch=8 ! other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,"
-                "types=float32,framerate=0/1 ! " +
-                filter("sum0", 8) + "tensor_query_serversink");
-  AppPipeline c(client_desc(port), kInCaps);
-  c.play();
-  c.push(input(0, 0), 0);
+// A .tflite file whose graph fixes its batch (a RESHAPE to [1,4]): input=8:8 cannot be
+// re-translated, and the error is the max-batch refusal naming the model's input, with the
+// engine's reshape message as the detail. The same refusal for a fixed-batch .onnx given
+// input=8:8.
+TEST_F(QueryBatch, FixedBatchTfliteModelIsRefusedNamingItsInput) {
+  const std::string so =
+      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_tensorflow2-lite.so";
+  if (!std::ifstream(so)) GTEST_SKIP() << "tflite back end not built (" << so << ")";
+  if (!std::ifstream(g_dir + "/fixed1.tflite"))
+    NNS_SKIP_UNLESS_CI("/usr/bin/python3 with flatbuffers cannot write the .tflite model");
+  struct Case {
+    std::string framework, model, input_name;
+  };
+  for (const Case &c :
+       {Case{"tensorflow-lite", "fixed1.tflite", "x"}, Case{"onnxruntime", "fixed1.onnx", "X"}}) {
+    LocalServer s(
+        "tensor_query_serversrc name=src host=127.0.0.1 port=0 max-batch=8 ! "
+        "other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,types=float32,"
+        "framerate=0/1 ! tensor_filter name=f framework=" +
+        c.framework + " model=" + g_dir + "/" + c.model +
+        " input=8:8 inputtype=float32 ! tensor_query_serversink");
+    const std::string err = s.error(5 * GST_SECOND);
+    EXPECT_NE(err.find("f: max-batch=8 (tensor_query_serversrc 'src'): the input of f ("),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find(c.model + "', input 0 '" + c.input_name +
+                       "' float32 8:1) cannot take a batch: expected a batch dimension (the "
+                       "outermost) that can grow to 8, got a model that fixes it to 1 "
+                       "(input=8:8 fails); use max-batch=1"),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find("Detail: framework '"), std::string::npos) << err;
+    if (c.model == "fixed1.tflite") {  // ONNX Runtime's reshape error, kept
+      EXPECT_NE(err.find("Input shape:{8,4}, requested shape:{1,4}"), std::string::npos) << err;
+    }
+  }
+}
+
+// The same refusal from the PyTorch back end (TorchScript declares no shapes: its probe run at
+// input=8:8 fails in a reshape to [1,4]).
+TEST_F(QueryBatch, FixedBatchPytorchModelIsRefused) {
+  const std::string so =
+      std::string(NNS_BUILD_DIR) + "/subplugins/filters/libnnstreamer_filter_pytorch.so";
+  if (!std::ifstream(so)) GTEST_SKIP() << "pytorch back end not built (" << so << ")";
+  const std::string script = g_dir + "/gen_torch_fixed.py";
+  std::ofstream(script) << "import sys, torch\n"
+                           "class M(torch.nn.Module):\n"
+                           "    def forward(self, x):\n"
+                           "        return (x[:, :4] * 2.0).reshape(1, 4)\n"
+                           "torch.jit.trace(M().eval(), torch.zeros(1, 8)).save(sys.argv[1])\n";
+  if (std::system(("/usr/bin/python3 " + script + " " + g_dir + "/fixed1.pt > " + g_dir +
+                   "/gen_torch_fixed.log 2>&1")
+                      .c_str()) != 0)
+    NNS_SKIP_UNLESS_CI("/usr/bin/python3 with torch cannot write the TorchScript model");
+  LocalServer s(
+      "tensor_query_serversrc name=src host=127.0.0.1 port=0 max-batch=8 ! "
+      "other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,types=float32,"
+      "framerate=0/1 ! tensor_filter name=f framework=pytorch model=" +
+      g_dir + "/fixed1.pt input=8:8 inputtype=float32 ! tensor_query_serversink");
   const std::string err = s.error(10 * GST_SECOND);
-  EXPECT_NE(err.find("a batch of 8 requests (tensor_query_serversrc max-batch) cannot be split: "
-                     "answer tensor 0 is float32 8:1, its outermost dimension must be the batch "
-                     "(8)"),
+  EXPECT_NE(err.find("f: max-batch=8 (tensor_query_serversrc 'src'): the input of f (framework "
+                     "'pytorch', model '"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("fixed1.pt') cannot take a batch: expected a batch dimension (the "
+                     "outermost) that can grow to 8, got a model that does not run at 8 (the "
+                     "back end declares no input shapes) (input=8:8 fails); use max-batch=1"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("shape '[1, 4]' is invalid for input of size 32"), std::string::npos) << err;
+}
+
+// A model that does not keep the batch outermost in its answer (sums over it): refused at
+// negotiation by tensor_query_serversink, naming the answer tensor and the model, before any
+// request (not answers split into garbage).
+TEST_F(QueryBatch, AnswerWithoutTheBatchIsAnError) {
+  LocalServer s(
+      "tensor_query_serversrc host=127.0.0.1 port=0 max-batch=8 ! "
+      "other/tensors,format=static,num_tensors=1,dimensions=(string)8:8,types=float32,"
+      "framerate=0/1 ! " +
+      filter("sum0", 8) + "tensor_query_serversink");
+  const std::string err = s.error(10 * GST_SECOND);
+  EXPECT_NE(err.find("max-batch=8: a batch of 8 requests (tensor_query_serversrc max-batch) "
+                     "cannot be split: answer tensor 0 is float32 8:1 (from tensor_filter '"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("sum0.onnx'), its outermost dimension must be the batch (8); use a model "
+                     "that keeps the batch outermost in its outputs, or max-batch=1"),
             std::string::npos)
       << err;
 }

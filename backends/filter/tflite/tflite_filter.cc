@@ -159,7 +159,7 @@ class TfliteFilter final : public FilterBackend {
   bool set_input_info(const nns_tensors_desc &in, nns_tensors_desc &out) override {
     std::unique_lock lock(mutex_);
     auto shapes = shapes_from(*plan_, in, "the negotiated input");
-    if (shapes != current_shapes(*plan_)) plan_ = build(plan_->model, shapes);
+    if (shapes != current_shapes(*plan_)) plan_ = rebuild(plan_->model, shapes, "set_input_info");
     nns_tensors_desc ignored{};
     fill(*plan_, ignored, out);
     return true;
@@ -185,7 +185,8 @@ class TfliteFilter final : public FilterBackend {
     {
       std::unique_lock lock(mutex_);
       auto shapes = shapes_from(*plan_, in_info, "the invoke-dynamic input");
-      if (shapes != current_shapes(*plan_)) plan_ = build(plan_->model, shapes);  // re-plan
+      if (shapes != current_shapes(*plan_))
+        plan_ = rebuild(plan_->model, shapes, "the invoke-dynamic input");  // re-plan
       pl = plan_;
     }
     for (uint32_t i = 0; i < pl->in.size(); ++i) check_size(*pl, "input", i, pl->in[i], in[i].size);
@@ -248,7 +249,7 @@ class TfliteFilter final : public FilterBackend {
     auto pl = build(model, shapes);
     if (p.input && p.input->num_tensors && desc_rank(p.input->tensors[0])) {
       auto want = shapes_from(*pl, *p.input, "input=");
-      if (want != shapes) pl = build(model, want);
+      if (want != shapes) pl = rebuild(model, want, "input=");
     }
     if (p.output && p.output->num_tensors) {
       if (p.output->num_tensors != pl->out.size())
@@ -306,6 +307,41 @@ class TfliteFilter final : public FilterBackend {
       if (p.shape.empty() && s.back() == std::vector<int64_t>{1}) s.back().clear();
     }
     return s;
+  }
+
+  // "8:8,3:224:224:1": TFLite shapes as NNStreamer dims (innermost first).
+  static std::string dims_string(const std::vector<std::vector<int64_t>> &shapes) {
+    std::string s;
+    for (const auto &shape : shapes) {
+      if (!s.empty()) s += ",";
+      for (auto d = shape.rbegin(); d != shape.rend(); ++d)
+        s += (d == shape.rbegin() ? "" : ":") + std::to_string(*d);
+      if (shape.empty()) s += "1";
+    }
+    return s;
+  }
+
+  // build() at input shapes other than the file's: a failure names both (a graph whose
+  // RESHAPE or another operator bakes the batch in fails here when the batch grows).
+  std::shared_ptr<Plan> rebuild(std::shared_ptr<const tfl::Model> model,
+                                const std::vector<std::vector<int64_t>> &shapes,
+                                const char *source) {
+    try {
+      return build(model, shapes);
+    } catch (const FilterError &e) {
+      std::vector<std::vector<int64_t>> file;
+      for (int t : model->inputs)
+        file.emplace_back(model->tensors[t].shape.begin(), model->tensors[t].shape.end());
+      std::string why = e.what();
+      const std::string head = prefix(model->path) + ": ";
+      if (why.rfind(head, 0) == 0) why.erase(0, head.size());
+      throw FilterError(head + source + " asks the inputs " + dims_string(shapes) +
+                            ", the file declares " + dims_string(file) +
+                            " and its graph does not run at the new shapes (an operator may "
+                            "fix them, such as a RESHAPE to the file's batch): " +
+                            why,
+                        e.code());
+    }
   }
 
   std::shared_ptr<Plan> build(std::shared_ptr<const tfl::Model> model,

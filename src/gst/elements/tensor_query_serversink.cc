@@ -45,6 +45,7 @@ struct ServerSinkPriv {
   std::shared_ptr<nns::gst::QueryServerShared> shared;
   bool tensor_caps = false;
   std::optional<nns::TensorsConfig> config;  // static tensor caps: checked against batches
+  std::string refused;  // caps refused for max-batch (posted once, not at every retry)
   gint metaless = 0;
   std::atomic<guint64> sent{0}, dropped{0};
 };
@@ -129,6 +130,7 @@ static gboolean serversink_start(GstBaseSink *bsink) {
                          GST_OBJECT(GST_BASE_SINK_PAD(bsink)));
     }
     p->metaless = 0;
+    p->refused.clear();
     p->sent = 0;
     p->dropped = 0;
     return TRUE;
@@ -145,16 +147,56 @@ static gboolean serversink_stop(GstBaseSink *bsink) {
   return TRUE;
 }
 
-static gboolean serversink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
-  auto *p = GST_TENSOR_QUERY_SERVERSINK(bsink)->priv;
-  p->tensor_caps = nns::gst::is_tensor_caps(caps);
-  p->config.reset();
-  if (p->tensor_caps && gst_caps_is_fixed(caps)) try {
-      nns::TensorsConfig c = nns::gst::config_from_caps(caps);
-      if (c.info.format == nns::TensorFormat::kStatic) p->config = c;
-    } catch (const nns::Error &) {
+// With max-batch > 1 the answers are split per request along their outermost dimension:
+// static answer caps that do not keep the batch there are refused now, naming the model that
+// produced them, rather than at the first answer.
+static void check_answer_batch(GstBaseSink *bsink, const nns::TensorsInfo &info, guint n) {
+  for (std::size_t i = 0; i < info.size(); ++i) {
+    const auto &t = info[i];
+    const std::size_t r = t.rank();
+    if (r && t.dims[r - 1] == n) continue;
+    std::string from;
+    if (GstElement *up = nns::gst::find_upstream(GST_ELEMENT(bsink), "model")) {
+      gchar *model = nullptr;
+      g_object_get(up, "model", &model, nullptr);
+      from = " (from " + nns::gst::element_label(up) + ", model '" + (model ? model : "") + "')";
+      g_free(model);
+      gst_object_unref(up);
     }
-  return TRUE;
+    nns::fail(nns::ErrorKind::kNegotiation,
+              "max-batch=" + std::to_string(n) + ": a batch of " + std::to_string(n) +
+                  " requests (tensor_query_serversrc max-batch) cannot be split: answer tensor " +
+                  std::to_string(i) + " is " + t.to_string() + from +
+                  ", its outermost dimension must be the batch (" + std::to_string(n) +
+                  "); use a model that keeps the batch outermost in its outputs, or "
+                  "max-batch=1");
+  }
+}
+
+static gboolean serversink_set_caps(GstBaseSink *bsink, GstCaps *caps) {
+  return nns::gst::guard(bsink, FALSE, [&]() -> gboolean {
+    auto *p = GST_TENSOR_QUERY_SERVERSINK(bsink)->priv;
+    p->tensor_caps = nns::gst::is_tensor_caps(caps);
+    p->config.reset();
+    if (p->tensor_caps && gst_caps_is_fixed(caps)) try {
+        nns::TensorsConfig c = nns::gst::config_from_caps(caps);
+        if (c.info.format == nns::TensorFormat::kStatic) p->config = c;
+      } catch (const nns::Error &) {
+      }
+    guint n = 1;
+    if (p->shared) {
+      std::lock_guard<std::mutex> l(p->shared->lock);
+      n = p->shared->max_batch;
+    }
+    if (n > 1 && p->config) {
+      const std::string text = nns::gst::caps_to_string(caps);
+      if (text == p->refused) return FALSE;
+      p->refused = text;
+      check_answer_batch(bsink, p->config->info, n);
+      p->refused.clear();
+    }
+    return TRUE;
+  });
 }
 
 static GstFlowReturn serversink_render(GstBaseSink *bsink, GstBuffer *buf) {
