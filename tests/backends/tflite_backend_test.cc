@@ -13,6 +13,7 @@
 
 #include "../../examples/face_demo/blazeface.h"
 #include "backends/backend_loader.h"
+#include "backends/tflite_sample_checks.h"
 #include "backends/tflite_builder.h"
 #include "support/harness.h"
 #include "tflite_exact_reference.h"
@@ -89,17 +90,7 @@ TEST(TfliteBackend, AddModel) {
   p.models = {upstream("add.tflite")};
   Instance inst(lib().api(), p);
   ASSERT_EQ(inst.rc(), 0) << inst.error();
-  nns_tensors_desc in, out;
-  ASSERT_EQ(inst.model_info(in, out), 0);
-  EXPECT_EQ(in.tensors[0].type, static_cast<uint32_t>(_NNS_FLOAT32));
-  EXPECT_STREQ(in.tensors[0].name, "X_input");
-  EXPECT_STREQ(out.tensors[0].name, "ADD_TOP");
-  for (float x : {0.f, 1.5f, -3.f}) {
-    float o = -1;
-    std::vector<GstTensorMemory> ins{{&x, 4}}, outs{{&o, 4}};
-    ASSERT_EQ(inst.invoke(ins, outs), 0) << inst.error();
-    EXPECT_FLOAT_EQ(o, x + 2.f);
-  }
+  expect_add_sample(inst);
 }
 
 // Dynamic shapes: set_input_info re-plans once per new shape; invoke-dynamic too.
@@ -141,27 +132,7 @@ TEST(TfliteBackend, ThirtyTwoInputsAndOutputs) {
   p.models = {upstream("simple_32_in_32_out.tflite")};
   Instance inst(lib().api(), p);
   ASSERT_EQ(inst.rc(), 0) << inst.error();
-  nns_tensors_desc in, out;
-  ASSERT_EQ(inst.model_info(in, out), 0);
-  ASSERT_EQ(in.num_tensors, 32u);
-  ASSERT_EQ(out.num_tensors, 32u);
-  std::vector<float> x(32), o(32, -1.f);
-  std::vector<GstTensorMemory> ins, outs;
-  for (int k = 0; k < 32; ++k) {
-    x[k] = 10.f * k;
-    ins.push_back({&x[k], 4});
-    outs.push_back({&o[k], 4});
-  }
-  ASSERT_EQ(inst.invoke(ins, outs), 0) << inst.error();
-  for (uint32_t j = 0; j < 32; ++j) {
-    std::string oname = out.tensors[j].name;
-    int idx = std::stoi(oname.substr(16));
-    std::string want_in = "serving_default_input_" + std::to_string(111 + idx) + ":0";
-    for (uint32_t k = 0; k < 32; ++k) {
-      if (want_in != in.tensors[k].name) continue;
-      EXPECT_FLOAT_EQ(o[j], x[k] + 1.f) << oname;
-    }
-  }
+  expect_thirty_two_sample(inst);
 }
 
 TEST(TfliteBackend, CustomOptions) {
