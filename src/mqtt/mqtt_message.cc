@@ -94,8 +94,16 @@ Rebased rebase(const MessageHeader &h, int64_t receiver_base_epoch) {
   // without pts whose sender started earlier gets no timestamps).
   const int64_t diff = static_cast<int64_t>(static_cast<uint64_t>(h.base_time_epoch) -
                                             static_cast<uint64_t>(receiver_base_epoch));
-  if (h.sent_time_epoch < receiver_base_epoch) return r;
-  if (static_cast<int64_t>(h.pts + static_cast<uint64_t>(diff)) < 0) return r;
+  if (h.sent_time_epoch < receiver_base_epoch) {
+    r.drop = Rebased::Drop::kSentBeforeBase;
+    return r;
+  }
+  const int64_t landed = static_cast<int64_t>(h.pts + static_cast<uint64_t>(diff));
+  if (landed < 0) {
+    r.drop = Rebased::Drop::kBeforeRunningZero;
+    r.landed = landed;
+    return r;
+  }
   if (h.pts != kNoTime) r.pts = h.pts + static_cast<uint64_t>(diff);
   if (h.dts != kNoTime) {
     const uint64_t d = h.dts + static_cast<uint64_t>(diff);
@@ -103,6 +111,7 @@ Rebased rebase(const MessageHeader &h, int64_t receiver_base_epoch) {
   }
   r.duration = h.duration;
   r.valid = r.pts != kNoTime || r.dts != kNoTime || r.duration != kNoTime;
+  r.drop = r.valid ? Rebased::Drop::kNone : Rebased::Drop::kNoTimestamps;
   return r;
 }
 

@@ -141,14 +141,21 @@ TEST(MqttMessage, RebaseMovesTimestampsOntoTheReceiverBase) {
   r = rebase(h, 1000600);
   EXPECT_FALSE(r.valid);
   EXPECT_EQ(r.pts, kNoTime);
+  EXPECT_EQ(r.drop, Rebased::Drop::kBeforeRunningZero);
+  EXPECT_EQ(r.landed, -100);
   // Sent before the receiver started: no timestamps.
   r = rebase(h, 2000001);
   EXPECT_FALSE(r.valid);
+  EXPECT_EQ(r.drop, Rebased::Drop::kSentBeforeBase);
   // No timestamps at all in the message: nothing valid.
   MessageHeader none;
   none.base_time_epoch = 10;
   none.sent_time_epoch = 20;
   EXPECT_FALSE(rebase(none, 5).valid);
+  EXPECT_EQ(rebase(none, 5).drop, Rebased::Drop::kNoTimestamps);
+  // No pts from a sender that started first: the missing pts counts as -1 (upstream's quirk).
+  EXPECT_EQ(rebase(none, 15).drop, Rebased::Drop::kBeforeRunningZero);
+  EXPECT_EQ(rebase(h, 999700).drop, Rebased::Drop::kNone);
 }
 
 TEST(MqttMessage, BaseTimeEpoch) {

@@ -286,20 +286,25 @@ static void mqtt_src_get_times(GstBaseSrc *, GstBuffer *buf, GstClockTime *start
   }
 }
 
-// Why rebase() gave a message no timestamps (its checks in order), in the receiver's terms.
-static std::string drop_reason(const nns::mqtt::MessageHeader &h, int64_t base_epoch) {
-  if (h.sent_time_epoch < base_epoch)
-    return "sent " + std::to_string(base_epoch - h.sent_time_epoch) +
-           " ns before this pipeline's base time";
-  const int64_t diff = h.base_time_epoch - base_epoch;
+// Why rebase() gave a message no timestamps (r.drop), in the receiver's terms.
+static std::string drop_reason(const nns::mqtt::MessageHeader &h, const nns::mqtt::Rebased &r,
+                               int64_t base_epoch) {
+  using Drop = nns::mqtt::Rebased::Drop;
   const std::string bases = "sender base time epoch " + std::to_string(h.base_time_epoch) +
                             " ns, ours " + std::to_string(base_epoch) + " ns";
-  if (h.pts == nns::mqtt::kNoTime && diff <= 0)
-    return "without pts from a sender that started before this pipeline (" + bases + ")";
-  const int64_t at = static_cast<int64_t>(h.pts) + diff;
-  if (h.pts != nns::mqtt::kNoTime && at < 0)
-    return "whose pts lands " + std::to_string(-at) +
-           " ns before this pipeline's running time 0 (" + bases + ")";
+  switch (r.drop) {
+    case Drop::kSentBeforeBase:
+      return "sent " + std::to_string(base_epoch - h.sent_time_epoch) +
+             " ns before this pipeline's base time";
+    case Drop::kBeforeRunningZero:
+      if (h.pts == nns::mqtt::kNoTime)
+        return "without pts from a sender that started before this pipeline (" + bases + ")";
+      return "whose pts lands " + std::to_string(-r.landed) +
+             " ns before this pipeline's running time 0 (" + bases + ")";
+    case Drop::kNone:
+    case Drop::kNoTimestamps:
+      break;
+  }
   return "without timestamps";
 }
 
@@ -373,7 +378,7 @@ static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer 
         if (!r.valid) {
           // Upstream drops it without a word; a receiver that only ever gets such messages
           // would then wait out sub-timeout with nothing on the bus. Say why, once per run.
-          const std::string why = drop_reason(h, p->base_epoch);
+          const std::string why = drop_reason(h, r, p->base_epoch);
           if (++p->dumped == 1)
             NNS_POST_WARNING(src, "topic '" + p->run.topic + "': dropped a message " + why +
                                       " (as upstream, such messages are not pushed; further "
