@@ -42,17 +42,12 @@ GstCaps *unbatch_caps(GstCaps *caps, guint n) {
   GstCaps *out = gst_caps_new_empty();
   for (guint i = 0; i < gst_caps_get_size(caps); ++i) {
     auto c = structure_config(caps, i);
-    if (!c) continue;
-    bool ok = true;
-    for (auto &t : c->info.tensors) {
-      const std::size_t r = t.rank();
-      ok = ok && r > 0 && t.dims[r - 1] == n;
-      if (ok) t.dims[r - 1] = 1;
-    }
+    if (!c || tensor_without_batch(c->info, n)) continue;
+    for (auto &t : c->info.tensors) t.dims[t.rank() - 1] = 1;
     // One other/tensors structure per config, no list of spellings nor other/tensor twin: fixed
     // caps stay fixed, as NNStreamer's client requires of the answer caps (else "out-caps from
     // tensor_query_serversink is not fixed" and no answers). Field order as upstream's.
-    if (ok) out = gst_caps_merge_structure(out, structure_from_config(*c));
+    out = gst_caps_merge_structure(out, structure_from_config(*c));
   }
   return out;
 }
@@ -72,13 +67,20 @@ std::optional<std::string> batch_caps_problem(GstCaps *caps, guint n) {
            got + "'";
   if (c.info.size() > 16)
     return "batches take at most 16 tensors, got " + std::to_string(c.info.size());
-  for (std::size_t i = 0; i < c.info.size(); ++i) {
-    const auto &t = c.info[i];
+  if (const auto i = tensor_without_batch(c.info, n)) {
+    const auto &t = c.info[*i];
     const std::size_t r = t.rank();
-    if (r == 0 || t.dims[r - 1] != n)
-      return "tensor " + std::to_string(i) + (t.name.empty() ? "" : " ('" + t.name + "')") +
-             " is " + t.to_string() + ": its outermost dimension must be " + std::to_string(n) +
-             " (the batch), got " + (r ? std::to_string(t.dims[r - 1]) : std::string("none"));
+    return "tensor " + std::to_string(*i) + (t.name.empty() ? "" : " ('" + t.name + "')") + " is " +
+           t.to_string() + ": its outermost dimension must be " + std::to_string(n) +
+           " (the batch), got " + (r ? std::to_string(t.dims[r - 1]) : std::string("none"));
+  }
+  return std::nullopt;
+}
+
+std::optional<std::size_t> tensor_without_batch(const TensorsInfo &info, guint n) {
+  for (std::size_t i = 0; i < info.size(); ++i) {
+    const std::size_t r = info[i].rank();
+    if (r == 0 || info[i].dims[r - 1] != n) return i;
   }
   return std::nullopt;
 }
@@ -116,10 +118,6 @@ std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots) {
   }
   return out;
 }
-
-}  // namespace nns::gst
-
-namespace nns::gst {
 
 GstElement *find_upstream(GstElement *e, const char *property) {
   GstPad *pad = gst_element_get_static_pad(e, "sink");

@@ -27,6 +27,9 @@ GstCaps *unbatch_caps(GstCaps *caps, guint n);
 // Why `caps` cannot carry batches of `n` (nullopt when they can): tensor caps, static, at
 // most 16 tensors, each with outermost dimension `n`.
 std::optional<std::string> batch_caps_problem(GstCaps *caps, guint n);
+// The index of the first tensor of `info` whose outermost dimension is not `n` (the batch);
+// nullopt when every tensor carries the batch outermost.
+std::optional<std::size_t> tensor_without_batch(const TensorsInfo &info, guint n);
 
 // Per-slot byte sizes of each tensor of a batch of `n` described by `info`.
 std::vector<std::size_t> slot_sizes(const TensorsInfo &info, guint n);
@@ -34,10 +37,6 @@ std::vector<std::size_t> slot_sizes(const TensorsInfo &info, guint n);
 void buffer_add_batch_meta(GstBuffer *buf, guint slots, const std::vector<int64_t> &clients);
 // The slot client ids (empty when the buffer carries no batch meta) and the slot count.
 std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots);
-
-}  // namespace nns::gst
-
-namespace nns::gst {
 
 // The first element upstream of `e` with a property `property`, walking past elements with
 // one sink pad (capsfilters, queues, transforms), at most 8 hops; nullptr if none. Returns a

@@ -151,10 +151,8 @@ static gboolean serversink_stop(GstBaseSink *bsink) {
 // static answer caps that do not keep the batch there are refused now, naming the model that
 // produced them, rather than at the first answer.
 static void check_answer_batch(GstBaseSink *bsink, const nns::TensorsInfo &info, guint n) {
-  for (std::size_t i = 0; i < info.size(); ++i) {
-    const auto &t = info[i];
-    const std::size_t r = t.rank();
-    if (r && t.dims[r - 1] == n) continue;
+  if (const auto i = nns::gst::tensor_without_batch(info, n)) {
+    const auto &t = info[*i];
     std::string from;
     if (GstElement *up = nns::gst::find_upstream(GST_ELEMENT(bsink), "model")) {
       gchar *model = nullptr;
@@ -166,7 +164,7 @@ static void check_answer_batch(GstBaseSink *bsink, const nns::TensorsInfo &info,
     nns::fail(nns::ErrorKind::kNegotiation,
               "max-batch=" + std::to_string(n) + ": a batch of " + std::to_string(n) +
                   " requests (tensor_query_serversrc max-batch) cannot be split: answer tensor " +
-                  std::to_string(i) + " is " + t.to_string() + from +
+                  std::to_string(*i) + " is " + t.to_string() + from +
                   ", its outermost dimension must be the batch (" + std::to_string(n) +
                   "); use a model that keeps the batch outermost in its outputs, or "
                   "max-batch=1");
@@ -239,18 +237,14 @@ static GstFlowReturn serversink_render(GstBaseSink *bsink, GstBuffer *buf) {
       // Static caps say where the batch is: every answer tensor must keep it outermost (a
       // model that reduces over the batch would otherwise be split into garbage).
       if (p->config)
-        for (std::size_t i = 0; i < p->config->info.size(); ++i) {
-          const auto &t = p->config->info[i];
-          const std::size_t r = t.rank();
-          if (r == 0 || t.dims[r - 1] != slots)
-            nns::fail(nns::ErrorKind::kStream,
-                      "a batch of " + std::to_string(slots) +
-                          " requests (tensor_query_serversrc max-batch) cannot be split: answer "
-                          "tensor " +
-                          std::to_string(i) + " is " + t.to_string() +
-                          ", its outermost dimension must be the batch (" + std::to_string(slots) +
-                          "); the model must keep the batch outermost");
-        }
+        if (const auto i = nns::gst::tensor_without_batch(p->config->info, slots))
+          nns::fail(nns::ErrorKind::kStream,
+                    "a batch of " + std::to_string(slots) +
+                        " requests (tensor_query_serversrc max-batch) cannot be split: answer "
+                        "tensor " +
+                        std::to_string(*i) + " is " + p->config->info[*i].to_string() +
+                        ", its outermost dimension must be the batch (" + std::to_string(slots) +
+                        "); the model must keep the batch outermost");
       for (const auto &m : mems)
         if (slots == 0 || m.size % slots != 0 || clients.size() > slots)
           nns::fail(nns::ErrorKind::kStream,
