@@ -119,25 +119,49 @@ std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots) {
   return out;
 }
 
-GstElement *find_upstream(GstElement *e, const char *property) {
-  GstPad *pad = gst_element_get_static_pad(e, "sink");
+namespace {
+
+// The only pad of `e` in direction `dir` (a new reference); nullptr when it has none or several.
+GstPad *only_pad(GstElement *e, GstPadDirection dir) {
+  GstPad *pad = nullptr;
+  GST_OBJECT_LOCK(e);
+  GList *pads = dir == GST_PAD_SINK ? e->sinkpads : e->srcpads;
+  if (pads && !pads->next) pad = GST_PAD(gst_object_ref(pads->data));
+  GST_OBJECT_UNLOCK(e);
+  return pad;
+}
+
+}  // namespace
+
+GstElement *find_along(GstPad *from, const char *property, std::string *first) {
+  const GstPadDirection dir = GST_PAD_DIRECTION(from);
+  GstPad *pad = GST_PAD(gst_object_ref(from));
   GstElement *found = nullptr;
   for (int hop = 0; hop < 8 && pad && !found; ++hop) {
     GstPad *peer = gst_pad_get_peer(pad);
     gst_object_unref(pad);
     pad = nullptr;
     if (!peer) break;
-    GstElement *up = gst_pad_get_parent_element(peer);
+    GstElement *e = gst_pad_get_parent_element(peer);
     gst_object_unref(peer);
-    if (!up) break;
-    if (g_object_class_find_property(G_OBJECT_GET_CLASS(up), property)) {
-      found = up;
+    if (!e) break;
+    if (first && first->empty()) *first = GST_ELEMENT_NAME(e);
+    if (g_object_class_find_property(G_OBJECT_GET_CLASS(e), property)) {
+      found = e;
       break;
     }
-    if (up->numsinkpads == 1) pad = gst_element_get_static_pad(up, "sink");
-    gst_object_unref(up);
+    pad = only_pad(e, dir);
+    gst_object_unref(e);
   }
   if (pad) gst_object_unref(pad);
+  return found;
+}
+
+GstElement *find_upstream(GstElement *e, const char *property) {
+  GstPad *sink = gst_element_get_static_pad(e, "sink");
+  if (!sink) return nullptr;
+  GstElement *found = find_along(sink, property, nullptr);
+  gst_object_unref(sink);
   return found;
 }
 

@@ -38,9 +38,12 @@ void buffer_add_batch_meta(GstBuffer *buf, guint slots, const std::vector<int64_
 // The slot client ids (empty when the buffer carries no batch meta) and the slot count.
 std::vector<int64_t> buffer_get_batch_meta(GstBuffer *buf, guint *slots);
 
-// The first element upstream of `e` with a property `property`, walking past elements with
-// one sink pad (capsfilters, queues, transforms), at most 8 hops; nullptr if none. Returns a
-// new reference.
+// The first element with a property `property` found from pad `from` in its direction
+// (upstream from a sink pad, downstream from a src pad), walking past elements with one pad
+// of that direction (capsfilters, queues, transforms), at most 8 hops; nullptr if none.
+// `first` (optional) gets the name of the first element met. Returns a new reference.
+GstElement *find_along(GstPad *from, const char *property, std::string *first);
+// find_along() from `e`'s "sink" pad.
 GstElement *find_upstream(GstElement *e, const char *property);
 // "tensor_query_serversrc 'src'" for messages.
 std::string element_label(GstElement *e);

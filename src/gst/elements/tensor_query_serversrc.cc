@@ -277,41 +277,20 @@ int64_t client_of(const nns::edge::Message &m) {
 // property (past capsfilters and queues), with its model file and input tensors.
 std::string downstream_model(GstBaseSrc *bsrc) {
   std::string first;
-  GstPad *pad = GST_PAD(gst_object_ref(GST_BASE_SRC_PAD(bsrc)));
-  for (int hop = 0; hop < 8 && pad; ++hop) {
-    GstPad *peer = gst_pad_get_peer(pad);
-    gst_object_unref(pad);
-    pad = nullptr;
-    if (!peer) break;
-    GstElement *e = gst_pad_get_parent_element(peer);
-    gst_object_unref(peer);
-    if (!e) break;
-    if (first.empty()) first = GST_ELEMENT_NAME(e);
-    if (g_object_class_find_property(G_OBJECT_GET_CLASS(e), "model")) {
-      gchar *model = nullptr, *names = nullptr, *dims = nullptr;
-      g_object_get(e, "model", &model, nullptr);
-      if (g_object_class_find_property(G_OBJECT_GET_CLASS(e), "inputname"))
-        g_object_get(e, "inputname", &names, "input", &dims, nullptr);
-      std::string out = std::string(GST_ELEMENT_NAME(e)) + " (model '" + (model ? model : "") +
-                        "'" + (names && *names ? std::string(", input '") + names + "'" : "") +
-                        (dims && *dims ? std::string(" ") + dims : "") + ")";
-      g_free(model);
-      g_free(names);
-      g_free(dims);
-      gst_object_unref(e);
-      return out;
-    }
-    GstIterator *it = gst_element_iterate_src_pads(e);
-    GValue v = G_VALUE_INIT;
-    if (e->numsrcpads == 1 && gst_iterator_next(it, &v) == GST_ITERATOR_OK) {
-      pad = GST_PAD(gst_object_ref(g_value_get_object(&v)));
-      g_value_unset(&v);
-    }
-    gst_iterator_free(it);
-    gst_object_unref(e);
-  }
-  if (pad) gst_object_unref(pad);
-  return first.empty() ? std::string("the element after it") : first;
+  GstElement *e = nns::gst::find_along(GST_BASE_SRC_PAD(bsrc), "model", &first);
+  if (!e) return first.empty() ? std::string("the element after it") : first;
+  gchar *model = nullptr, *names = nullptr, *dims = nullptr;
+  g_object_get(e, "model", &model, nullptr);
+  if (g_object_class_find_property(G_OBJECT_GET_CLASS(e), "inputname"))
+    g_object_get(e, "inputname", &names, "input", &dims, nullptr);
+  std::string out = std::string(GST_ELEMENT_NAME(e)) + " (model '" + (model ? model : "") + "'" +
+                    (names && *names ? std::string(", input '") + names + "'" : "") +
+                    (dims && *dims ? std::string(" ") + dims : "") + ")";
+  g_free(model);
+  g_free(names);
+  g_free(dims);
+  gst_object_unref(e);
+  return out;
 }
 
 gboolean serversrc_set_caps(GstBaseSrc *bsrc, GstCaps *caps) {
