@@ -146,11 +146,31 @@ ours=$(cd "$DEBS" && for d in *.deb; do dpkg-deb -f "$d" Package; done | tr '\n'
 in_root dpkg --purge $ours >/dev/null 2>&1 || true
 debs=()
 for d in "$DEBS"/*.deb; do debs+=("/tmp/nns-debs/${d##*/}"); done
-if ! apt_root install -y --no-install-recommends "${debs[@]}" gstreamer1.0-tools \
-  gstreamer1.0-plugins-good gcc libc6-dev pkgconf >"$WORK/apt-install.log" 2>&1; then
-  tail -n 30 "$WORK/apt-install.log"
-  say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
-  exit 1
+install_all() {
+  apt_root install -y --no-install-recommends "${debs[@]}" gstreamer1.0-tools \
+    gstreamer1.0-plugins-good gcc libc6-dev pkgconf >"$WORK/apt-install.log" 2>&1
+}
+# A download that fails (the mirror or the network, "Failed to fetch", or an index older than
+# the archive) is retried once after apt-get update; when it fails again the test skips naming
+# the mirror. Anything else (a dependency that cannot be met, a maintainer script failing) is
+# a fault of our packages and fails the test.
+fetch_trouble='Failed to fetch|Temporary failure resolving|Could not connect|Connection failed|Unable to fetch|Hash Sum mismatch'
+if ! install_all; then
+  if grep -qE "$fetch_trouble" "$WORK/apt-install.log"; then
+    say "apt-get install could not download from $mirror; apt-get update and one more try"
+    apt_root update >"$WORK/apt-update.log" 2>&1 && touch "$stamp"
+    if ! install_all; then
+      tail -n 30 "$WORK/apt-install.log"
+      grep -qE "$fetch_trouble" "$WORK/apt-install.log" &&
+        skip "apt-get install could not download Debian's packages from $mirror twice ($WORK/apt-install.log)"
+      say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
+      exit 1
+    fi
+  else
+    tail -n 30 "$WORK/apt-install.log"
+    say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
+    exit 1
+  fi
 fi
 say "installed: $ours"
 phase "apt-get install"
