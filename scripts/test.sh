@@ -86,6 +86,26 @@ failed_names() {
   sed -n '/The following tests FAILED:/,$p' "$1" | sed -n 's/^[[:space:]]*[0-9]* - \(.*\) (.*)$/\1/p'
 }
 
+# failure_excerpt <LastTest.log> <test>: what the test printed about its failure (gtest's
+# "Failure" blocks, else its last lines), at most 20 lines, indented.
+failure_excerpt() {
+  awk -v name="$2" '
+    $0 ~ "^[0-9]+/[0-9]+ Testing: " && $3 == name { on = 1; n = 0; next }
+    on && /^Output:$/ { n = 0; dashes = 1; next }
+    dashes { dashes = 0; next }
+    on && /^<end of output>/ { on = 0 }
+    on { out[n++] = $0 }
+    END {
+      k = 0
+      for (i = 0; i < n && k < 20; i++)
+        if (out[i] ~ /Failure$/ || out[i] ~ /FAILED:|Error|error:/) {
+          for (j = i; j < n && j < i + 5 && k < 20; j++) { print "    " out[j]; k++ }
+          i = j - 1
+        }
+      if (k == 0) for (i = (n > 10 ? n - 10 : 0); i < n; i++) print "    " out[i]
+    }' "$1"
+}
+
 FLAKY=()
 # rerun_failed <dir>: runs the tests that failed in <dir>'s last ctest run once more. A test that
 # passes the second time is reported as flaky by name at the end of the output (not hidden; see
@@ -95,6 +115,7 @@ rerun_failed() {
   first_failed=$(sed -n 's/.*, \([0-9]*\) tests failed out of.*/\1/p' "$log" | tail -n 1)
   mapfile -t first < <(failed_names "$log")
   cp "$log" "$log.first"
+  cp "$dir/Testing/Temporary/LastTest.log" "$dir/setup-logs/LastTest.log.first" 2>/dev/null || true
   FAILED=$((FAILED - ${first_failed:-0}))
   say "${first_failed:-?} test(s) failed in ${dir#"$ROOT"/} (log kept in ${log#"$ROOT"/}.first);" \
     "running them once more"
@@ -102,7 +123,7 @@ rerun_failed() {
   run_ctest "$dir" --rerun-failed || rc=$?
   mapfile -t again < <(failed_names "$log")
   for name in "${first[@]}"; do
-    printf '%s\n' "${again[@]}" | grep -qxF -- "$name" || FLAKY+=("${dir#"$ROOT"/}: $name")
+    printf '%s\n' "${again[@]}" | grep -qxF -- "$name" || FLAKY+=("$dir|$name")
   done
   return $rc
 }
@@ -167,11 +188,18 @@ if [[ $NNS_SANITIZE == 1 ]]; then
 fi
 
 # The names come last so that the tail of a CI log says which tests failed or were flaky.
-for name in "${FLAKY[@]}"; do say "FLAKY (failed, then passed when re-run): $name"; done
+for entry in "${FLAKY[@]}"; do
+  dir=${entry%%|*} name=${entry#*|}
+  say "FLAKY (failed, then passed when re-run): ${dir#"$ROOT"/}: $name"
+  failure_excerpt "$dir/setup-logs/LastTest.log.first" "$name" || true
+done
 if ((status)); then
-  for log in "$BUILD_DIR/setup-logs/ctest.log" "${ASAN_DIR:-/nonexistent}/setup-logs/ctest.log"; do
-    [[ -f $log ]] || continue
-    failed_names "$log" | while read -r name; do say "FAILED in ${log#"$ROOT"/}: $name"; done
+  for dir in "$BUILD_DIR" "${ASAN_DIR:-/nonexistent}"; do
+    [[ -f $dir/setup-logs/ctest.log ]] || continue
+    failed_names "$dir/setup-logs/ctest.log" | while read -r name; do
+      say "FAILED in ${dir#"$ROOT"/}: $name"
+      failure_excerpt "$dir/Testing/Temporary/LastTest.log" "$name" || true
+    done
   done
 fi
 if ((status)); then say "FAILED after $(($(date +%s) - T0)) s"; else say "all tests passed in $(($(date +%s) - T0)) s"; fi
