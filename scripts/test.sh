@@ -90,7 +90,7 @@ failed_names() {
 # "Failure" blocks, else its last lines), at most 20 lines, indented.
 failure_excerpt() {
   awk -v name="$2" '
-    $0 ~ "^[0-9]+/[0-9]+ Testing: " && $3 == name { on = 1; n = 0; next }
+    /^[0-9]+\/[0-9]+ Testing: / && substr($0, index($0, " Testing: ") + 10) == name { on = 1; n = 0; next }
     on && /^Output:$/ { n = 0; dashes = 1; next }
     dashes { dashes = 0; next }
     on && /^<end of output>/ { on = 0 }
