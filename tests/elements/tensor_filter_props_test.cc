@@ -429,7 +429,7 @@ TEST(TensorFilterProps, SuspendWithEventAndResumeOnData) {
   FilterHarness fh("tensor_filter framework=nnstest custom=event:1 suspend=40 model=" + model,
                    tensors_caps("uint8", "4"));
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
-  for (int i = 0; i < 100 && g_suspends == s0; ++i)
+  for (int i = 0; i < 500 && g_suspends == s0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_EQ(g_suspends - s0, 1);
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{2, 2, 2, 2}));
@@ -442,7 +442,7 @@ TEST(TensorFilterProps, SuspendClosesAndReopensWithoutEvents) {
   FilterHarness fh("tensor_filter framework=nnstest suspend=30 model=" + model,
                    tensors_caps("uint8", "4"));
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{4, 4, 4, 4}));
-  for (int i = 0; i < 100 && g_closes == c0; ++i)
+  for (int i = 0; i < 500 && g_closes == c0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_EQ(g_closes - c0, 1);
   EXPECT_EQ(push_pull(fh, {{1, 1, 1, 1}}), (std::vector<uint8_t>{4, 4, 4, 4}));

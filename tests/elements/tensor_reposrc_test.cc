@@ -181,7 +181,9 @@ TEST(TensorRepo, HundredPlayingNullCyclesNoHangNoLeak) {
     int before = handoffs;
     finish_within(30, "PLAYING<->NULL cycle " + std::to_string(i), [&] {
       gst_element_set_state(pipe, GST_STATE_PLAYING);
-      for (int k = 0; k < 200 && handoffs < before + 2; ++k)
+      // Up to 5 s (a deadline, not a count of 1 ms sleeps that a loaded machine stretches).
+      const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+      while (handoffs < before + 2 && std::chrono::steady_clock::now() < end)
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       gst_element_set_state(pipe, GST_STATE_NULL);
     });
