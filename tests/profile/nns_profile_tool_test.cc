@@ -137,7 +137,7 @@ TEST_F(NnsProfileTool, NamesTheSleepingIdentityAsBottleneck) {
       sink_latency = true;
       EXPECT_EQ(l["latency"]["count"], 50);
       EXPECT_GE(l["latency"]["mean_ns"].get<double>(), per);
-      EXPECT_LT(l["latency"]["mean_ns"].get<double>(), per + 5e6);
+      EXPECT_LT(l["latency"]["mean_ns"].get<double>(), per + 20e6);  // margin for a loaded machine
     }
   EXPECT_TRUE(sink_latency);
   ASSERT_EQ(j["sinks"].size(), 1u);

@@ -61,8 +61,8 @@ TEST(NnsProfile, SleepingIdentityOwnsItsTimeAndCountsAreExact) {
   const json &to_sink = f.links["fast>out"];
   EXPECT_EQ(to_sink["latency"]["count"], 40);
   const double lat_ms = mean_ms(to_sink["latency"], "total_ns", "count");
-  EXPECT_GE(lat_ms, slow_ms);  // the sleep is on the way from the source to the sink
-  EXPECT_LT(lat_ms, slow_ms + 5.0);
+  EXPECT_GE(lat_ms, slow_ms);         // the sleep is on the way from the source to the sink
+  EXPECT_LT(lat_ms, slow_ms + 20.0);  // a loaded machine delays buffers between elements too
   ASSERT_EQ(to_sink["latency_by_source"].size(), 1u);
   const int src_id = to_sink["latency_by_source"][0]["source"].get<int>();
   EXPECT_EQ(f.all["elements"][src_id]["factory"], "videotestsrc");
