@@ -109,15 +109,16 @@ failure_excerpt() {
 FLAKY=()
 # rerun_failed <dir>: runs the tests that failed in <dir>'s last ctest run once more. A test that
 # passes the second time is reported as flaky by name at the end of the output (not hidden; see
-# docs/testing.md "Re-runs"); one that fails again fails the run.
+# docs/testing.md "Re-runs"); one that fails again fails the run. Returns non-zero at once when
+# the log names no failed test (ctest itself failed: nothing to re-run).
 rerun_failed() {
-  local dir=$1 log=$1/setup-logs/ctest.log first_failed name first again
-  first_failed=$(sed -n 's/.*, \([0-9]*\) tests failed out of.*/\1/p' "$log" | tail -n 1)
+  local dir=$1 log=$1/setup-logs/ctest.log name first again
   mapfile -t first < <(failed_names "$log")
+  ((${#first[@]})) || return 1
   cp "$log" "$log.first"
   cp "$dir/Testing/Temporary/LastTest.log" "$dir/setup-logs/LastTest.log.first" 2>/dev/null || true
-  FAILED=$((FAILED - ${first_failed:-0}))
-  say "${first_failed:-?} test(s) failed in ${dir#"$ROOT"/} (log kept in ${log#"$ROOT"/}.first);" \
+  FAILED=$((FAILED - ${#first[@]}))
+  say "${#first[@]} test(s) failed in ${dir#"$ROOT"/} (log kept in ${log#"$ROOT"/}.first);" \
     "running them once more"
   local rc=0
   run_ctest "$dir" --rerun-failed || rc=$?
@@ -130,14 +131,7 @@ rerun_failed() {
 
 build_tree "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE"
 status=$format_status
-if ! run_ctest "$BUILD_DIR" "$@"; then
-  # Only when tests failed (a build or configure failure has exited above).
-  if [[ -n $(failed_names "$BUILD_DIR/setup-logs/ctest.log") ]]; then
-    rerun_failed "$BUILD_DIR" || status=1
-  else
-    status=1
-  fi
-fi
+run_ctest "$BUILD_DIR" "$@" || rerun_failed "$BUILD_DIR" || status=1
 # The Python package's pytest summary (python_api.pytest, tests/python-api.cmake).
 py_summary=$(grep -E '^[0-9]+ (passed|failed|skipped|error).* in [0-9.]+s' \
   "$BUILD_DIR/Testing/Temporary/LastTest.log" 2>/dev/null | tail -n 1 || true)
@@ -177,12 +171,11 @@ if [[ $NNS_SANITIZE == 1 ]]; then
     # measures time or crosses processes, or LeakSanitizer's stop-the-world tracer crashing at
     # process exit ("Tracer caught signal 11 ... LeakSanitizer has encountered a fatal error"),
     # a fault of the sanitizer (docs/testing.md).
-    asan_log=$ASAN_DIR/setup-logs/ctest.log
-    if [[ -n $(failed_names "$asan_log") ]] &&
-      ! grep -q 'ERROR: AddressSanitizer\|ERROR: LeakSanitizer: detected\|runtime error:' "$asan_log"; then
-      rerun_failed "$ASAN_DIR" || status=1
-    else
+    if grep -q 'ERROR: AddressSanitizer\|ERROR: LeakSanitizer: detected\|runtime error:' \
+      "$ASAN_DIR/setup-logs/ctest.log"; then
       status=1
+    else
+      rerun_failed "$ASAN_DIR" || status=1
     fi
   fi
 fi
