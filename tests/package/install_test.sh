@@ -123,13 +123,18 @@ apt_root() { in_root env DEBIAN_FRONTEND=noninteractive apt-get -q -o Dpkg::Use-
 # 3. Install the packages (and what the checks use: gst-launch, pngdec, a C compiler).
 # apt-get update once a day, or when the root's sources changed.
 stamp=$WORK/apt-updated
-if [[ ! -f $stamp || $ROOTFS/etc/apt/sources.list -nt $stamp ||
-  -n $(find "$stamp" -mmin +1440 2>/dev/null) ]]; then
+# update_index: apt-get update in the root; when it fails (the mirror or the network) the test
+# skips naming the mirror.
+update_index() {
   apt_root update >"$WORK/apt-update.log" 2>&1 || {
     tail -n 5 "$WORK/apt-update.log"
     skip "apt-get update failed in the test root ($mirror)"
   }
   touch "$stamp"
+}
+if [[ ! -f $stamp || $ROOTFS/etc/apt/sources.list -nt $stamp ||
+  -n $(find "$stamp" -mmin +1440 2>/dev/null) ]]; then
+  update_index
 fi
 rm -rf "$ROOTFS/tmp/nns-debs" "$ROOTFS/tmp/nns-models" "$ROOTFS/tmp/nns-check"
 mkdir -p "$ROOTFS/tmp/nns-debs" "$ROOTFS/tmp/nns-models" "$ROOTFS/tmp/nns-check"
@@ -150,27 +155,29 @@ install_all() {
   apt_root install -y --no-install-recommends "${debs[@]}" gstreamer1.0-tools \
     gstreamer1.0-plugins-good gcc libc6-dev pkgconf >"$WORK/apt-install.log" 2>&1
 }
-# A download that fails (the mirror or the network, "Failed to fetch", or an index older than
-# the archive) is retried once after apt-get update; when it fails again the test skips naming
-# the mirror. Anything else (a dependency that cannot be met, a maintainer script failing) is
-# a fault of our packages and fails the test.
-fetch_trouble='Failed to fetch|Temporary failure resolving|Could not connect|Connection failed|Unable to fetch|Hash Sum mismatch'
-if ! install_all; then
-  if grep -qE "$fetch_trouble" "$WORK/apt-install.log"; then
-    say "apt-get install could not download from $mirror; apt-get update and one more try"
-    apt_root update >"$WORK/apt-update.log" 2>&1 && touch "$stamp"
-    if ! install_all; then
-      tail -n 30 "$WORK/apt-install.log"
-      grep -qE "$fetch_trouble" "$WORK/apt-install.log" &&
-        skip "apt-get install could not download Debian's packages from $mirror twice ($WORK/apt-install.log)"
-      say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
-      exit 1
-    fi
-  else
+# A download that failed (the mirror or the network, or an index older than the archive).
+download_failed() {
+  grep -qE 'Failed to fetch|Temporary failure resolving|Could not connect|Connection failed|Unable to fetch|Hash Sum mismatch' \
+    "$WORK/apt-install.log"
+}
+# A failed download is retried once after apt-get update; when it fails again the test skips
+# naming the mirror. Anything else (a dependency that cannot be met, a maintainer script
+# failing) is a fault of our packages and fails the test.
+installed=0
+install_all && installed=1
+if ((!installed)) && download_failed; then
+  say "apt-get install could not download from $mirror; apt-get update and one more try"
+  update_index
+  install_all && installed=1
+  if ((!installed)) && download_failed; then
     tail -n 30 "$WORK/apt-install.log"
-    say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
-    exit 1
+    skip "apt-get install could not download Debian's packages from $mirror twice ($WORK/apt-install.log)"
   fi
+fi
+if ((!installed)); then
+  tail -n 30 "$WORK/apt-install.log"
+  say "FAILED: apt-get install ./*.deb in the test root ($WORK/apt-install.log)"
+  exit 1
 fi
 say "installed: $ours"
 phase "apt-get install"
