@@ -110,8 +110,7 @@ Rebased rebase(const MessageHeader &h, int64_t receiver_base_epoch) {
     if (static_cast<int64_t>(d) >= 0) r.dts = d;
   }
   r.duration = h.duration;
-  r.valid = r.pts != kNoTime || r.dts != kNoTime || r.duration != kNoTime;
-  r.drop = r.valid ? Rebased::Drop::kNone : Rebased::Drop::kNoTimestamps;
+  if (r.pts != kNoTime || r.dts != kNoTime || r.duration != kNoTime) r.drop = Rebased::Drop::kNone;
   return r;
 }
 

@@ -63,7 +63,7 @@ MessageHeader parse_message(const uint8_t *data, std::size_t size);
 // The header's timestamps moved onto the receiving pipeline's running time, as NNStreamer's
 // mqttsrc does: add (sender base epoch - receiver base epoch). A message sent before the
 // receiver's base time, or whose pts would become negative, gets no timestamps at all
-// (valid = false; mqttsrc drops such buffers), and `drop` says which check refused it.
+// (valid() false; mqttsrc drops such buffers), and `drop` says which check refused it.
 struct Rebased {
   enum class Drop {
     kNone,               // valid
@@ -71,12 +71,12 @@ struct Rebased {
     kBeforeRunningZero,  // pts + (sender base - receiver base) < 0; a missing pts counts as -1
     kNoTimestamps,       // nothing left: no pts, dts or duration
   };
-  bool valid = false;
   Drop drop = Drop::kNoTimestamps;
   int64_t landed = 0;  // kBeforeRunningZero: where the pts landed (negative, ns)
   uint64_t pts = kNoTime;
   uint64_t dts = kNoTime;
   uint64_t duration = kNoTime;
+  bool valid() const { return drop == Drop::kNone; }
 };
 Rebased rebase(const MessageHeader &h, int64_t receiver_base_epoch);
 

@@ -129,7 +129,7 @@ TEST(MqttMessage, RebaseMovesTimestampsOntoTheReceiverBase) {
   h.dts = 400;
   h.duration = 10;
   Rebased r = rebase(h, 999700);
-  ASSERT_TRUE(r.valid);
+  ASSERT_TRUE(r.valid());
   EXPECT_EQ(r.pts, 800u);
   EXPECT_EQ(r.dts, 700u);
   EXPECT_EQ(r.duration, 10u);
@@ -139,19 +139,19 @@ TEST(MqttMessage, RebaseMovesTimestampsOntoTheReceiverBase) {
   EXPECT_EQ(r.dts, 100u);
   // Would become negative: no timestamps.
   r = rebase(h, 1000600);
-  EXPECT_FALSE(r.valid);
+  EXPECT_FALSE(r.valid());
   EXPECT_EQ(r.pts, kNoTime);
   EXPECT_EQ(r.drop, Rebased::Drop::kBeforeRunningZero);
   EXPECT_EQ(r.landed, -100);
   // Sent before the receiver started: no timestamps.
   r = rebase(h, 2000001);
-  EXPECT_FALSE(r.valid);
+  EXPECT_FALSE(r.valid());
   EXPECT_EQ(r.drop, Rebased::Drop::kSentBeforeBase);
   // No timestamps at all in the message: nothing valid.
   MessageHeader none;
   none.base_time_epoch = 10;
   none.sent_time_epoch = 20;
-  EXPECT_FALSE(rebase(none, 5).valid);
+  EXPECT_FALSE(rebase(none, 5).valid());
   EXPECT_EQ(rebase(none, 5).drop, Rebased::Drop::kNoTimestamps);
   // No pts from a sender that started first: the missing pts counts as -1 (upstream's quirk).
   EXPECT_EQ(rebase(none, 15).drop, Rebased::Drop::kBeforeRunningZero);
@@ -231,9 +231,9 @@ TEST(MqttMessage, MessageCapturedFromNNStreamer270) {
             "dimensions=(string)3:8:6:1, types=(string)uint8");
   // Rebased onto a receiver whose pipeline started 1.5 s after the sender's.
   const Rebased r = rebase(h, h.base_time_epoch + 1500000000LL);
-  EXPECT_FALSE(r.valid);  // sent before that receiver's base time: dropped, as upstream
+  EXPECT_FALSE(r.valid());  // sent before that receiver's base time: dropped, as upstream
   const Rebased r2 = rebase(h, h.base_time_epoch - 1500000000LL);
-  ASSERT_TRUE(r2.valid);
+  ASSERT_TRUE(r2.valid());
   EXPECT_EQ(r2.pts, 1600000000u);
   EXPECT_EQ(r2.dts, kNoTime);
   EXPECT_EQ(r2.duration, 100000000u);

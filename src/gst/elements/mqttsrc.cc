@@ -375,7 +375,7 @@ static GstFlowReturn mqtt_src_create(GstBaseSrc *src, guint64, guint, GstBuffer 
       }
       if (have_base) {
         const nns::mqtt::Rebased r = nns::mqtt::rebase(h, p->base_epoch);
-        if (!r.valid) {
+        if (!r.valid()) {
           // Upstream drops it without a word; a receiver that only ever gets such messages
           // would then wait out sub-timeout with nothing on the bus. Say why, once per run.
           const std::string why = drop_reason(h, r, p->base_epoch);
